@@ -1,0 +1,103 @@
+//! Axis-aligned bounding boxes and the ray/box slab test.
+
+use glam::{Mat4, Vec3};
+
+use super::Ray;
+
+/// An axis-aligned box; `min > max` on any axis means empty.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Aabb::EMPTY
+    }
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    pub fn new(a: Vec3, b: Vec3) -> Aabb {
+        Aabb {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    pub fn grow(&self, p: Vec3) -> Aabb {
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    pub fn centroid(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+
+    /// Surface area (0 for an empty box).
+    pub fn area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let e = self.extent();
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    pub fn contains(&self, p: Vec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
+    /// The box bounding this box's eight corners after `m`.
+    pub fn transformed(&self, m: &Mat4) -> Aabb {
+        if self.is_empty() {
+            return *self;
+        }
+        let mut out = Aabb::EMPTY;
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            );
+            out = out.grow(m.transform_point3(c));
+        }
+        out
+    }
+
+    /// Slab test; `inv_dir` is `1 / ray.dir` per component. Returns the entry
+    /// distance when the ray overlaps the box within `(t_min, t_max)`.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+        let t0 = (self.min - ray.origin) * inv_dir;
+        let t1 = (self.max - ray.origin) * inv_dir;
+        let near = t0.min(t1).max_element().max(t_min);
+        let far = t0.max(t1).min_element().min(t_max);
+        if near <= far {
+            Some(near)
+        } else {
+            None
+        }
+    }
+}

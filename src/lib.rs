@@ -1,0 +1,10 @@
+//! rtlang: a scene-description language and the path tracer behind it.
+//!
+//! Data flows one way: text → [`lang`] (parse, AST, evaluation) → [`scene`]
+//! (plain data) → [`geometry`] (intersection structures) → [`render`] (pixels).
+//! The language never calls the renderer; the renderer never sees spans.
+
+pub mod geometry;
+pub mod lang;
+pub mod render;
+pub mod scene;

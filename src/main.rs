@@ -1,0 +1,5 @@
+//! The `rtlang` command-line entry point.
+
+fn main() -> miette::Result<()> {
+    Ok(())
+}

@@ -1,0 +1,71 @@
+//! Decoded texture images: linear RGB pixels, and loading them from files.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+/// An image decoded to linear RGB, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageData {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+/// Why an image could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageLoadError {
+    #[error("cannot read `{path}`: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("cannot decode `{path}`: {message}")]
+    Decode { path: String, message: String },
+    #[error("image `{path}` is empty (0 pixels)")]
+    Empty { path: String },
+}
+
+/// Converts one sRGB-encoded channel in [0, 1] to linear.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+impl ImageData {
+    /// Loads a PNG or JPEG file (any format the `image` crate reads) and
+    /// decodes its sRGB values to linear RGB.
+    pub fn load(path: &Path) -> Result<ImageData, ImageLoadError> {
+        let shown = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|source| ImageLoadError::Io {
+            path: shown.clone(),
+            source,
+        })?;
+        let decoded = image::load_from_memory(&bytes).map_err(|e| ImageLoadError::Decode {
+            path: shown.clone(),
+            message: e.to_string(),
+        })?;
+        let rgb = decoded.to_rgb8();
+        if rgb.width() == 0 || rgb.height() == 0 {
+            return Err(ImageLoadError::Empty { path: shown });
+        }
+        let pixels = rgb
+            .pixels()
+            .map(|p| {
+                Vec3::new(
+                    srgb_to_linear(p[0] as f32 / 255.0),
+                    srgb_to_linear(p[1] as f32 / 255.0),
+                    srgb_to_linear(p[2] as f32 / 255.0),
+                )
+            })
+            .collect();
+        Ok(ImageData {
+            width: rgb.width(),
+            height: rgb.height(),
+            pixels,
+        })
+    }
+}
