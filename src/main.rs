@@ -1,5 +1,8 @@
-//! The `rtlang` command-line entry point.
+//! The `rtlang` command-line entry point: parses arguments and dispatches to
+//! one module per subcommand under `cli/`.
 
-fn main() -> miette::Result<()> {
-    Ok(())
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::run()
 }

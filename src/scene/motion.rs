@@ -87,3 +87,19 @@ pub enum MotionStep {
 pub struct Motion {
     pub steps: Vec<MotionStep>,
 }
+
+impl Program {
+    /// The value at time `t`.
+    pub fn eval(&self, t: f32) -> f32 {
+        let _ = t;
+        unimplemented!("owned by the motion work")
+    }
+}
+
+impl Motion {
+    /// The object-to-world matrix at time `t`.
+    pub fn matrix_at(&self, t: f32) -> glam::Mat4 {
+        let _ = t;
+        unimplemented!("owned by the motion work")
+    }
+}
