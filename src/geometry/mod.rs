@@ -4,6 +4,7 @@
 pub mod aabb;
 pub mod hit;
 pub mod ray;
+pub mod revolution;
 pub mod sweep;
 
 pub use aabb::Aabb;

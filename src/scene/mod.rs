@@ -11,6 +11,7 @@ pub mod curve;
 pub mod image;
 pub mod material;
 pub mod mesh;
+pub mod obj;
 pub mod motion;
 pub mod object;
 pub mod settings;
