@@ -5,7 +5,9 @@
 //! its magnitude, so they also contain the rounding of the f32 evaluation.
 //! Values that are NaN in f32 (the square root or logarithm of a negative
 //! number, `pow` of a negative base) are not numbers and are not bounded;
-//! every other result is.
+//! every other result is, as long as no NaN is swallowed on the way (`min`
+//! and `max` of a NaN return the other operand, which the bounds of that
+//! `min`/`max` need not cover).
 
 use std::f64::consts::{PI, TAU};
 
@@ -71,11 +73,15 @@ impl Interval {
         }
     }
 
-    /// Widened outward by the rounding allowance of an f32 operation.
+    /// Widened outward by the rounding allowance of an f32 operation; an end
+    /// beyond the f32 range becomes infinite, as the f32 result overflows.
     pub fn widen(self) -> Interval {
+        let lo = self.lo - REL * self.lo.abs() - ABS;
+        let hi = self.hi + REL * self.hi.abs() + ABS;
+        let max = f32::MAX as f64;
         Interval {
-            lo: self.lo - REL * self.lo.abs() - ABS,
-            hi: self.hi + REL * self.hi.abs() + ABS,
+            lo: if lo < -max { f64::NEG_INFINITY } else { lo },
+            hi: if hi > max { f64::INFINITY } else { hi },
         }
     }
 
