@@ -6,5 +6,6 @@
 
 pub mod geometry;
 pub mod lang;
+pub mod picture;
 pub mod render;
 pub mod scene;
