@@ -2,6 +2,8 @@
 //! dispatch to one module per command. No rendering or language logic here.
 
 mod compare;
+mod check;
+mod parse;
 
 use std::process::ExitCode;
 
@@ -18,6 +20,10 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Compare(compare::CompareArgs),
+    /// Report every error and warning of scene files.
+    Check(check::CheckArgs),
+    /// Print the canonical source of a scene file's syntax tree.
+    Parse(parse::ParseArgs),
 }
 
 /// Parses the command line and runs the chosen command.
@@ -25,5 +31,17 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Compare(args) => compare::run(&args),
+        Command::Check(args) => check::run(args),
+        Command::Parse(args) => parse::run(args),
+    }
+}
+
+/// Parses a `-D NAME=VALUE` argument.
+pub(crate) fn parse_define(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.trim().is_empty() => {
+            Ok((name.trim().to_string(), value.to_string()))
+        }
+        _ => Err(format!("`{text}` is not NAME=VALUE")),
     }
 }
