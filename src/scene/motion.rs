@@ -59,7 +59,11 @@ pub enum Op {
     /// Pops `x` and interpolates the keyframe table
     /// `keys[start..start + len]` (sorted `(time, value)` pairs) at `x`,
     /// linearly or with smoothstep easing; constant outside the table.
-    Keyframes { start: u32, len: u32, smooth: bool },
+    Keyframes {
+        start: u32,
+        len: u32,
+        smooth: bool,
+    },
 }
 
 /// A compiled scalar expression of `t`.
@@ -76,7 +80,10 @@ pub struct Program {
 pub enum MotionStep {
     Translate([Program; 3]),
     /// Rotation about a fixed unit `axis` by `degrees(t)`.
-    Rotate { axis: Vec3, degrees: Program },
+    Rotate {
+        axis: Vec3,
+        degrees: Program,
+    },
     Scale([Program; 3]),
     /// A general 4×4 matrix, entries in row-major order.
     Matrix(Box<[Program; 16]>),
