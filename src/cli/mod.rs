@@ -1,6 +1,8 @@
 //! Command-line interface: the clap definition of every subcommand and the
 //! dispatch to one module per command. No rendering or language logic here.
 
+mod gen;
+
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -14,10 +16,15 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Generate the project's procedural assets (textures, meshes).
+    Gen(gen::GenArgs),
+}
 
 /// Parses the command line and runs the chosen command.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {}
+    match cli.command {
+        Command::Gen(args) => gen::run(args),
+    }
 }
