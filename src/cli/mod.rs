@@ -1,8 +1,9 @@
 //! Command-line interface: the clap definition of every subcommand and the
 //! dispatch to one module per command. No rendering or language logic here.
 
-mod compare;
 mod check;
+mod compare;
+mod gen;
 mod parse;
 
 use std::process::ExitCode;
@@ -19,20 +20,24 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    Compare(compare::CompareArgs),
     /// Report every error and warning of scene files.
     Check(check::CheckArgs),
     /// Print the canonical source of a scene file's syntax tree.
     Parse(parse::ParseArgs),
+    /// Compare two images: RMSE, relative MSE and PSNR.
+    Compare(compare::CompareArgs),
+    /// Generate the project's procedural assets (textures, meshes).
+    Gen(gen::GenArgs),
 }
 
 /// Parses the command line and runs the chosen command.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Compare(args) => compare::run(&args),
         Command::Check(args) => check::run(args),
         Command::Parse(args) => parse::run(args),
+        Command::Compare(args) => compare::run(&args),
+        Command::Gen(args) => gen::run(args),
     }
 }
 
