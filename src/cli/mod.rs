@@ -5,6 +5,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod render;
+
 /// rtlang: a scene-description language and a physically based path tracer.
 #[derive(Parser)]
 #[command(name = "rtlang", version, about)]
@@ -14,10 +16,15 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Render a scene to an image.
+    Render(render::RenderArgs),
+}
 
 /// Parses the command line and runs the chosen command.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {}
+    match cli.command {
+        Command::Render(args) => render::run(args),
+    }
 }
