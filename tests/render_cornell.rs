@@ -30,6 +30,7 @@ fn cornell_box_has_its_walls_on_the_seed_sides() {
     if let Ok(path) = std::env::var("RTLANG_RENDER_OUT") {
         write_image(path.as_ref(), out.width, out.height, &out.pixels).expect("writes");
     }
+    eprintln!("{:?}", out.stats);
     assert_eq!(out.stats.dropped, 0);
     let region = |x0: u32, x1: u32, y0: u32, y1: u32| {
         let mut sum = Vec3::ZERO;
