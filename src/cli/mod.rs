@@ -5,6 +5,7 @@ mod check;
 mod compare;
 mod gen;
 mod parse;
+mod render;
 
 use std::process::ExitCode;
 
@@ -20,6 +21,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Render a scene to an image.
+    Render(render::RenderArgs),
     /// Report every error and warning of scene files.
     Check(check::CheckArgs),
     /// Print the canonical source of a scene file's syntax tree.
@@ -34,6 +37,7 @@ enum Command {
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Parse(args) => parse::run(args),
         Command::Compare(args) => compare::run(&args),

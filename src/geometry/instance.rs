@@ -25,7 +25,8 @@ impl StaticTransform {
     /// `None` when `m` is not an invertible affine matrix.
     pub fn new(m: Mat4) -> Option<StaticTransform> {
         let to_parent = Affine3A::from_mat4(m);
-        if !(to_parent.matrix3.determinant().abs() > 0.0) || !m.is_finite() {
+        let det = to_parent.matrix3.determinant();
+        if det == 0.0 || !det.is_finite() || !m.is_finite() {
             return None;
         }
         let to_object = to_parent.inverse();

@@ -27,6 +27,15 @@ fn rect(plane: RectPlane, a: (f32, f32), b: (f32, f32), k: f32, material: Materi
     }
 }
 
+/// A light rectangle in the plane y = `k` that emits downwards: a rect's
+/// front face is +y, so it is built at −k and mirrored.
+fn ceiling_light(x: (f32, f32), z: (f32, f32), k: f32, material: MaterialId) -> Node {
+    Node::Transform {
+        matrix: Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0)),
+        child: Box::new(rect(RectPlane::Xz, x, z, -k, material)),
+    }
+}
+
 fn placed_box(size: Vec3, degrees: f32, at: Vec3, material: MaterialId) -> Node {
     Node::Transform {
         matrix: Mat4::from_translation(at) * Mat4::from_rotation_y(degrees.to_radians()),
@@ -51,7 +60,7 @@ pub fn cornell_box(size: u32, spp: u32) -> Scene {
     s.objects = vec![
         rect(RectPlane::Yz, wall, wall, 555.0, green),
         rect(RectPlane::Yz, wall, wall, 0.0, red),
-        rect(RectPlane::Xz, (213.0, 343.0), (227.0, 332.0), 554.0, lamp),
+        ceiling_light((213.0, 343.0), (227.0, 332.0), 554.0, lamp),
         rect(RectPlane::Xz, wall, wall, 0.0, white),
         rect(RectPlane::Xz, wall, wall, 555.0, white),
         rect(RectPlane::Xy, wall, wall, 555.0, white),
@@ -132,7 +141,7 @@ pub fn book2_final(size: u32, spp: u32) -> Scene {
         .collect();
     s.objects = vec![
         Node::Group(boxes),
-        rect(RectPlane::Xz, (123.0, 423.0), (147.0, 412.0), 554.0, lamp),
+        ceiling_light((123.0, 423.0), (147.0, 412.0), 554.0, lamp),
         sphere(Vec3::new(400.0, 400.0, 200.0), 50.0, orange),
         sphere(Vec3::new(260.0, 150.0, 45.0), 50.0, glass),
         sphere(Vec3::new(0.0, 150.0, 145.0), 50.0, metal),

@@ -1,0 +1,58 @@
+//! Determinism: the same scene and seed give bit-identical pixels with any
+//! thread count and for any crop of the image.
+
+use rtlang::geometry::World;
+use rtlang::render::scenes::{book2_final, cornell_box};
+use rtlang::render::{render, Crop, RenderOptions};
+
+#[test]
+fn one_thread_and_four_threads_are_bit_identical() {
+    let scene = book2_final(40, 4);
+    let world = World::build(&scene).expect("builds");
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    options.threads = Some(1);
+    let one = render(&scene, &world, &options, &|_| {}).expect("renders");
+    options.threads = Some(4);
+    let four = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert_eq!(one.pixels, four.pixels);
+    assert_eq!(one.stats.rays, four.stats.rays);
+    assert!(one.pixels.iter().any(|p| p.max_element() > 0.0));
+}
+
+#[test]
+fn a_crop_matches_the_same_pixels_of_the_whole_image() {
+    let scene = cornell_box(48, 4);
+    let world = World::build(&scene).expect("builds");
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    let whole = render(&scene, &world, &options, &|_| {}).expect("renders");
+    let crop = Crop {
+        x0: 5,
+        x1: 30,
+        y0: 17,
+        y1: 41,
+    };
+    options.crop = Some(crop);
+    let part = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert_eq!((part.width, part.height), (25, 24));
+    for y in crop.y0..crop.y1 {
+        for x in crop.x0..crop.x1 {
+            let a = whole.pixels[(y * 48 + x) as usize];
+            let b = part.pixels[((y - crop.y0) * 25 + (x - crop.x0)) as usize];
+            assert_eq!(a.to_array(), b.to_array(), "pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
+fn a_crop_outside_the_image_is_refused() {
+    let scene = cornell_box(16, 1);
+    let world = World::build(&scene).expect("builds");
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    options.crop = Some(Crop {
+        x0: 4,
+        x1: 20,
+        y0: 0,
+        y1: 4,
+    });
+    assert!(render(&scene, &world, &options, &|_| {}).is_err());
+}
