@@ -163,7 +163,7 @@ fn rotation_bound_is_close_to_the_sampled_box() {
     }
     let slack = (swept.extent() - sampled.extent()).max_element();
     assert!(
-        slack >= 0.0 && slack < 0.1,
+        (0.0..0.1).contains(&slack),
         "swept {swept:?} sampled {sampled:?}"
     );
 }
