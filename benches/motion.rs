@@ -68,6 +68,9 @@ fn bench(c: &mut Criterion) {
     c.bench_function("CompiledMotion::matrix_at 4 steps (2 folded)", |b| {
         b.iter(|| compiled.matrix_at(black_box(0.37)))
     });
+    c.bench_function("CompiledMotion::matrices_at 4 steps (with inverse)", |b| {
+        b.iter(|| compiled.matrices_at(black_box(0.37)))
+    });
 }
 
 criterion_group!(benches, bench);
