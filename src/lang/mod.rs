@@ -13,10 +13,7 @@ pub struct Loaded {
 
 /// Parses and evaluates the scene file at `path`, with command-line
 /// parameter overrides `defines` (`-D name=value`).
-pub fn load_scene(
-    path: &Path,
-    defines: &[(String, String)],
-) -> Result<Loaded, Vec<miette::Report>> {
+pub fn load_scene(path: &Path, defines: &[(String, String)]) -> Result<Loaded, Vec<miette::Report>> {
     let _ = (path, defines);
     Err(vec![miette::miette!("the language is not implemented yet")])
 }
