@@ -220,3 +220,26 @@ proptest! {
         check_interval(&e, a, a + w)?;
     }
 }
+
+#[test]
+fn motion_validation_checks_axes_and_programs() {
+    use glam::Vec3;
+    use rtlang::scene::motion::MotionStep;
+    use rtlang::scene::Motion;
+    let rotate = |axis, degrees| Motion {
+        steps: vec![MotionStep::Rotate { axis, degrees }],
+    };
+    assert!(rotate(Vec3::Y, Program::time()).validate().is_ok());
+    assert!(matches!(
+        rotate(Vec3::new(0.0, 2.0, 0.0), Program::time()).validate(),
+        Err(ProgramError::AxisNotUnit { .. })
+    ));
+    let broken = Program {
+        ops: vec![Op::Add],
+        keys: vec![],
+    };
+    assert_eq!(
+        rotate(Vec3::Y, broken).validate(),
+        Err(ProgramError::Underflow { at: 0 })
+    );
+}

@@ -163,7 +163,7 @@ fn rotation_bound_is_close_to_the_sampled_box() {
     }
     let slack = (swept.extent() - sampled.extent()).max_element();
     assert!(
-        slack >= 0.0 && slack < 0.1,
+        (0.0..0.1).contains(&slack),
         "swept {swept:?} sampled {sampled:?}"
     );
 }
@@ -221,4 +221,48 @@ fn compiled_motion_folds_constant_steps_and_matches() {
         steps: motion.steps[..2].to_vec(),
     };
     assert!(still.is_static() && still.compile().fixed().is_some());
+}
+
+#[test]
+fn compiled_inverse_undoes_the_matrix() {
+    let matrix: [Program; 16] = std::array::from_fn(|k| match k {
+        0 | 5 | 10 | 15 => Program::constant(1.0),
+        3 => affine(0.5, 1.0),
+        4 => affine(0.0, 0.3),
+        _ => Program::constant(0.0),
+    });
+    let motion = Motion {
+        steps: vec![
+            MotionStep::Scale([
+                affine(1.0, 1.0),
+                Program::constant(0.5),
+                Program::constant(3.0),
+            ]),
+            MotionStep::Rotate {
+                axis: Vec3::new(0.6, 0.0, 0.8),
+                degrees: affine(10.0, 200.0),
+            },
+            MotionStep::Translate([
+                Program::constant(1.0),
+                Program::constant(2.0),
+                Program::constant(3.0),
+            ]),
+            MotionStep::Rotate {
+                axis: Vec3::X,
+                degrees: Program::constant(45.0),
+            },
+            MotionStep::Matrix(Box::new(matrix)),
+            MotionStep::Translate([affine(0.0, -4.0), Program::constant(0.0), affine(1.0, 1.0)]),
+        ],
+    };
+    let compiled = motion.compile();
+    for t in [0.0f32, 0.25, 0.9] {
+        let (m, inv) = compiled.matrices_at(t);
+        assert!(m.abs_diff_eq(motion.matrix_at(t), 1e-4), "t={t}");
+        assert!(
+            (inv * m).abs_diff_eq(Mat4::IDENTITY, 1e-4),
+            "t={t}: {}",
+            inv * m
+        );
+    }
 }

@@ -8,6 +8,8 @@
 //! f32 rounding of the evaluation, so the box also holds every point that
 //! `Motion::matrix_at(t).transform_point3(p)` computes in f32.
 
+use std::ops::{Add, Mul, Sub};
+
 use glam::Vec3;
 
 use crate::scene::motion::{Interval, MotionStep, Program};

@@ -222,7 +222,7 @@ pub(crate) fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
     if e0 == e1 {
         return if x < e0 { 0.0 } else { 1.0 };
     }
-    let u = ((x - e0) / (e1 - e0)).max(0.0).min(1.0);
+    let u = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
     u * u * (3.0 - 2.0 * u)
 }
 

@@ -9,14 +9,14 @@
 //! ray; a motion that turns out constant is reported by
 //! [`CompiledMotion::fixed`], so it can be treated as a static transform.
 
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 
 use super::{Motion, MotionStep, Program};
 
-/// One step of a [`CompiledMotion`].
+/// One step of a [`CompiledMotion`]; a fixed step keeps its inverse.
 #[derive(Clone, Debug, PartialEq)]
 enum Step {
-    Fixed(Mat4),
+    Fixed { matrix: Mat4, inverse: Mat4 },
     Moving(MotionStep),
 }
 
@@ -34,11 +34,19 @@ impl CompiledMotion {
             if step.is_constant() {
                 let m = step.matrix_at(0.0);
                 match steps.last_mut() {
-                    Some(Step::Fixed(acc)) => *acc = m * *acc,
-                    _ => steps.push(Step::Fixed(m)),
+                    Some(Step::Fixed { matrix, .. }) => *matrix = m * *matrix,
+                    _ => steps.push(Step::Fixed {
+                        matrix: m,
+                        inverse: Mat4::IDENTITY,
+                    }),
                 }
             } else {
                 steps.push(Step::Moving(fold_programs(step)));
+            }
+        }
+        for step in &mut steps {
+            if let Step::Fixed { matrix, inverse } = step {
+                *inverse = matrix.inverse();
             }
         }
         CompiledMotion { steps }
@@ -49,19 +57,35 @@ impl CompiledMotion {
     pub fn matrix_at(&self, t: f32) -> Mat4 {
         match self.steps.as_slice() {
             [] => Mat4::IDENTITY,
-            [Step::Fixed(m)] => *m,
+            [Step::Fixed { matrix, .. }] => *matrix,
             steps => steps.iter().fold(Mat4::IDENTITY, |acc, step| match step {
-                Step::Fixed(m) => *m * acc,
+                Step::Fixed { matrix, .. } => *matrix * acc,
                 Step::Moving(s) => s.matrix_at(t) * acc,
             }),
         }
+    }
+
+    /// The object-to-world matrix at time `t` and its inverse, the inverse
+    /// composed from each step's own inverse (negated translation and angle,
+    /// reciprocal scale, the cached inverse of fixed runs) rather than by a
+    /// general 4×4 inversion, except for `matrix` steps. Allocation-free.
+    pub fn matrices_at(&self, t: f32) -> (Mat4, Mat4) {
+        self.steps
+            .iter()
+            .fold((Mat4::IDENTITY, Mat4::IDENTITY), |(m, inv), step| {
+                let (s, s_inv) = match step {
+                    Step::Fixed { matrix, inverse } => (*matrix, *inverse),
+                    Step::Moving(s) => step_with_inverse(s, t),
+                };
+                (s * m, inv * s_inv)
+            })
     }
 
     /// The matrix when it does not depend on `t` (identity for no steps).
     pub fn fixed(&self) -> Option<Mat4> {
         match self.steps.as_slice() {
             [] => Some(Mat4::IDENTITY),
-            [Step::Fixed(m)] => Some(*m),
+            [Step::Fixed { matrix, .. }] => Some(*matrix),
             _ => None,
         }
     }
@@ -69,6 +93,31 @@ impl CompiledMotion {
     /// Whether the motion is exactly the identity at every time.
     pub fn is_identity(&self) -> bool {
         self.fixed() == Some(Mat4::IDENTITY)
+    }
+}
+
+/// A moving step's matrix at `t` and its inverse.
+fn step_with_inverse(step: &MotionStep, t: f32) -> (Mat4, Mat4) {
+    match step {
+        MotionStep::Translate(p) => {
+            let v = Vec3::new(p[0].eval(t), p[1].eval(t), p[2].eval(t));
+            (Mat4::from_translation(v), Mat4::from_translation(-v))
+        }
+        MotionStep::Rotate { axis, degrees } => {
+            let angle = degrees.eval(t).to_radians();
+            (
+                Mat4::from_axis_angle(*axis, angle),
+                Mat4::from_axis_angle(*axis, -angle),
+            )
+        }
+        MotionStep::Scale(p) => {
+            let v = Vec3::new(p[0].eval(t), p[1].eval(t), p[2].eval(t));
+            (Mat4::from_scale(v), Mat4::from_scale(v.recip()))
+        }
+        MotionStep::Matrix(_) => {
+            let m = step.matrix_at(t);
+            (m, m.inverse())
+        }
     }
 }
 

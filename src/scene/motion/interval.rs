@@ -10,6 +10,7 @@
 //! `min`/`max` need not cover).
 
 use std::f64::consts::{PI, TAU};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::{smoothstep, Fn1, Fn2, Fn3, Op, Program, MAX_STACK};
 
@@ -85,40 +86,6 @@ impl Interval {
         }
     }
 
-    pub fn add(self, o: Interval) -> Interval {
-        Interval::new(self.lo + o.lo, self.hi + o.hi).widen()
-    }
-
-    pub fn sub(self, o: Interval) -> Interval {
-        Interval::new(self.lo - o.hi, self.hi - o.lo).widen()
-    }
-
-    pub fn neg(self) -> Interval {
-        Interval {
-            lo: -self.hi,
-            hi: -self.lo,
-        }
-    }
-
-    pub fn mul(self, o: Interval) -> Interval {
-        let p = |a: f64, b: f64| if a == 0.0 || b == 0.0 { 0.0 } else { a * b };
-        Interval::hull(&[
-            p(self.lo, o.lo),
-            p(self.lo, o.hi),
-            p(self.hi, o.lo),
-            p(self.hi, o.hi),
-        ])
-        .widen()
-    }
-
-    /// Division; a divisor that contains 0 gives [`Interval::ENTIRE`].
-    pub fn div(self, o: Interval) -> Interval {
-        if o.contains(0.0) {
-            return Interval::ENTIRE;
-        }
-        self.mul(Interval::new(1.0 / o.lo, 1.0 / o.hi).widen())
-    }
-
     pub fn min(self, o: Interval) -> Interval {
         Interval::new(self.lo.min(o.lo), self.hi.min(o.hi))
     }
@@ -145,7 +112,7 @@ impl Interval {
     /// A sine-like function with its extrema: `peak` is where the function is 1 (π/2 for
     /// sin, 0 for cos); the minimum lies π further on.
     fn periodic(self, f: impl Fn(f64) -> f64, peak: f64) -> Interval {
-        if !(self.hi - self.lo < TAU) {
+        if self.hi - self.lo >= TAU {
             return Interval::new(-1.0, 1.0);
         }
         let hits = |at: f64| {
@@ -165,7 +132,7 @@ impl Interval {
     fn tan(self) -> Interval {
         // Poles at π/2 + kπ; between two poles tan increases.
         let k = ((self.lo - PI / 2.0) / PI).ceil();
-        if !(self.hi - self.lo < PI) || PI / 2.0 + k * PI <= self.hi {
+        if self.hi - self.lo >= PI || PI / 2.0 + k * PI <= self.hi {
             return Interval::ENTIRE;
         }
         self.monotone(f64::tan)
@@ -212,6 +179,55 @@ impl Interval {
         // On an interval of one sign (or any interval for odd positive n)
         // x^n is monotone.
         Interval::new(self.lo.powi(n), self.hi.powi(n)).widen()
+    }
+}
+
+impl Add for Interval {
+    type Output = Interval;
+    fn add(self, o: Interval) -> Interval {
+        Interval::new(self.lo + o.lo, self.hi + o.hi).widen()
+    }
+}
+
+impl Sub for Interval {
+    type Output = Interval;
+    fn sub(self, o: Interval) -> Interval {
+        Interval::new(self.lo - o.hi, self.hi - o.lo).widen()
+    }
+}
+
+impl Neg for Interval {
+    type Output = Interval;
+    fn neg(self) -> Interval {
+        Interval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+}
+
+impl Mul for Interval {
+    type Output = Interval;
+    fn mul(self, o: Interval) -> Interval {
+        let p = |a: f64, b: f64| if a == 0.0 || b == 0.0 { 0.0 } else { a * b };
+        Interval::hull(&[
+            p(self.lo, o.lo),
+            p(self.lo, o.hi),
+            p(self.hi, o.lo),
+            p(self.hi, o.hi),
+        ])
+        .widen()
+    }
+}
+
+impl Div for Interval {
+    type Output = Interval;
+    /// Division; a divisor that contains 0 gives [`Interval::ENTIRE`].
+    fn div(self, o: Interval) -> Interval {
+        if o.contains(0.0) {
+            return Interval::ENTIRE;
+        }
+        self * Interval::new(1.0 / o.lo, 1.0 / o.hi).widen()
     }
 }
 
