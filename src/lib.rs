@@ -7,5 +7,6 @@
 pub mod gen;
 pub mod geometry;
 pub mod lang;
+pub mod picture;
 pub mod render;
 pub mod scene;

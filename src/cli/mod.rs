@@ -1,7 +1,10 @@
 //! Command-line interface: the clap definition of every subcommand and the
 //! dispatch to one module per command. No rendering or language logic here.
 
+mod check;
+mod compare;
 mod gen;
+mod parse;
 
 use std::process::ExitCode;
 
@@ -17,6 +20,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Report every error and warning of scene files.
+    Check(check::CheckArgs),
+    /// Print the canonical source of a scene file's syntax tree.
+    Parse(parse::ParseArgs),
+    /// Compare two images: RMSE, relative MSE and PSNR.
+    Compare(compare::CompareArgs),
     /// Generate the project's procedural assets (textures, meshes).
     Gen(gen::GenArgs),
 }
@@ -25,6 +34,19 @@ enum Command {
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Check(args) => check::run(args),
+        Command::Parse(args) => parse::run(args),
+        Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
+    }
+}
+
+/// Parses a `-D NAME=VALUE` argument.
+pub(crate) fn parse_define(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.trim().is_empty() => {
+            Ok((name.trim().to_string(), value.to_string()))
+        }
+        _ => Err(format!("`{text}` is not NAME=VALUE")),
     }
 }

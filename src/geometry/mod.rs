@@ -2,11 +2,22 @@
 //! revolution, transforms, motion, media and the BVH that holds them.
 
 pub mod aabb;
+pub mod build;
+pub mod bvh;
+pub mod group;
 pub mod hit;
+pub mod instance;
+pub mod medium;
+pub mod mesh;
+pub mod object;
+pub mod primitives;
 pub mod ray;
 pub mod revolution;
+pub mod shapes;
 pub mod sweep;
 
 pub use aabb::Aabb;
+pub use build::{BuildError, World};
+pub use bvh::Bvh;
 pub use hit::Hit;
 pub use ray::Ray;

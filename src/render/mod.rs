@@ -1,2 +1,15 @@
 //! From geometry to pixels: sampling, camera rays, materials, the path
 //! tracing integrator, the film, tiles over threads, and image output.
+
+pub mod camera;
+pub mod integrator;
+pub mod material;
+pub mod options;
+pub mod output;
+pub mod rng;
+pub mod scenes;
+pub mod texture;
+pub mod tiles;
+
+pub use options::{Crop, RenderOptions};
+pub use tiles::{render, RenderError, RenderOutput, RenderStats};

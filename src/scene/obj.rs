@@ -1,7 +1,15 @@
 //! Loading Wavefront OBJ meshes (and their MTL materials) into [`MeshData`].
+//!
+//! tobj parses and triangulates (fan triangulation of quads and n-gons,
+//! negative indices resolved) with one index per vertex; every object and
+//! group in the file is merged into one mesh whose triangles carry a material
+//! slot. MTL entries are mapped to rtlang materials by [`map_material`].
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
+use glam::{Vec2, Vec3};
+
+use super::mesh::{MeshMaterial, MeshMaterialKind};
 use super::MeshData;
 
 /// A loaded mesh with the non-fatal problems found while loading it
@@ -26,8 +34,213 @@ pub enum ObjError {
 
 /// Loads the OBJ file at `path`, triangulating polygons.
 pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
-    Err(ObjError::Io {
-        path: path.display().to_string(),
-        message: "OBJ loading is not implemented yet".into(),
-    })
+    let shown = path.display().to_string();
+    if let Err(e) = std::fs::metadata(path) {
+        return Err(ObjError::Io {
+            path: shown,
+            message: e.to_string(),
+        });
+    }
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, mtl) = tobj::load_obj(path, &options).map_err(|e| match e {
+        tobj::LoadError::OpenFileFailed | tobj::LoadError::ReadError => ObjError::Io {
+            path: shown.clone(),
+            message: e.to_string(),
+        },
+        _ => ObjError::Parse {
+            path: shown.clone(),
+            message: e.to_string(),
+        },
+    })?;
+
+    let mut warnings = Vec::new();
+    let base = path.parent().unwrap_or(Path::new("."));
+    let file_materials = match mtl {
+        Ok(list) => list,
+        Err(e) => {
+            if file_names_mtl(path) {
+                warnings.push(format!(
+                    "`{shown}`: its material library could not be loaded ({e}); using a grey diffuse material"
+                ));
+            }
+            Vec::new()
+        }
+    };
+    let mut materials: Vec<MeshMaterial> = file_materials
+        .iter()
+        .map(|m| map_material(m, base, &mut warnings))
+        .collect();
+
+    let mesh = merge_models(&models, &mut materials, &shown)?;
+    Ok(LoadedObj { mesh, warnings })
+}
+
+/// Whether the OBJ text has an `mtllib` line (so a missing library is worth a
+/// warning rather than the normal case of a file without materials).
+fn file_names_mtl(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .map(|text| text.lines().any(|l| l.trim_start().starts_with("mtllib")))
+        .unwrap_or(false)
+}
+
+/// Merges tobj's models into one mesh, one material slot per triangle.
+fn merge_models(
+    models: &[tobj::Model],
+    materials: &mut Vec<MeshMaterial>,
+    shown: &str,
+) -> Result<MeshData, ObjError> {
+    let any_normals = models.iter().any(|m| !m.mesh.normals.is_empty());
+    let any_uvs = models.iter().any(|m| !m.mesh.texcoords.is_empty());
+    let mut out = MeshData::default();
+    let mut slots: Vec<u16> = Vec::new();
+    let mut fallback_slot: Option<u16> = None;
+
+    for model in models {
+        let m = &model.mesh;
+        let first = out.positions.len() as u32;
+        for p in m.positions.chunks_exact(3) {
+            let v = Vec3::new(p[0], p[1], p[2]);
+            if !v.is_finite() {
+                return Err(ObjError::NonFinite { path: shown.into() });
+            }
+            out.positions.push(v);
+        }
+        let count = out.positions.len() - first as usize;
+        let slot = match model.mesh.material_id.filter(|&i| i < materials.len()) {
+            Some(i) => i as u16,
+            None if materials.is_empty() => 0,
+            None => *fallback_slot.get_or_insert_with(|| {
+                materials.push(MeshMaterial {
+                    name: "default".into(),
+                    kind: MeshMaterialKind::fallback(),
+                });
+                (materials.len() - 1) as u16
+            }),
+        };
+        let start = out.triangles.len();
+        for tri in m.indices.chunks_exact(3) {
+            out.triangles
+                .push([first + tri[0], first + tri[1], first + tri[2]]);
+        }
+        slots.extend(std::iter::repeat_n(slot, out.triangles.len() - start));
+
+        if any_normals {
+            if m.normals.len() == count * 3 {
+                out.normals.extend(
+                    m.normals
+                        .chunks_exact(3)
+                        .map(|n| Vec3::new(n[0], n[1], n[2]).normalize_or_zero()),
+                );
+            } else {
+                let tris = &out.triangles[start..];
+                out.normals
+                    .extend(vertex_normals(&out.positions, first, count, tris));
+            }
+        }
+        if any_uvs {
+            if m.texcoords.len() == count * 2 {
+                out.uvs
+                    .extend(m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])));
+            } else {
+                out.uvs.extend(std::iter::repeat_n(Vec2::ZERO, count));
+            }
+        }
+    }
+
+    if out.triangles.is_empty() {
+        return Err(ObjError::Empty { path: shown.into() });
+    }
+    if out.normals.iter().any(|n| !n.is_finite()) || out.uvs.iter().any(|t| !t.is_finite()) {
+        return Err(ObjError::NonFinite { path: shown.into() });
+    }
+    out.materials = std::mem::take(materials);
+    if out.materials.len() > 1 {
+        out.triangle_material = slots;
+    }
+    Ok(out)
+}
+
+/// Area-weighted vertex normals for vertices `first..first + count`, from the
+/// triangles that use them (for an object without normals in a file where
+/// others have them).
+fn vertex_normals(positions: &[Vec3], first: u32, count: usize, tris: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut acc = vec![Vec3::ZERO; count];
+    for t in tris {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        for &i in t {
+            acc[(i - first) as usize] += n;
+        }
+    }
+    acc.into_iter().map(Vec3::normalize_or_zero).collect()
+}
+
+/// Maps one MTL entry to an rtlang material:
+/// non-zero `Ke` → light; `d < 1` or `illum` 4–7 → dielectric with `Ni`;
+/// a specular colour `Ks` brighter than the diffuse one, or `illum 3`
+/// (mirror reflection), → metal with fuzz from the Phong exponent `Ns`;
+/// otherwise diffuse `Kd`, textured by `map_Kd` when that file exists.
+fn map_material(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> MeshMaterial {
+    let rgb = |c: Option<[f32; 3]>| c.map(Vec3::from_array);
+    let kd = rgb(m.diffuse).unwrap_or(Vec3::splat(0.73));
+    let ks = rgb(m.specular).unwrap_or(Vec3::ZERO);
+    let ke = rgb(m.emissive).unwrap_or(Vec3::ZERO);
+    let illum = m.illumination_model.unwrap_or(2);
+    let transparent = m.dissolve.is_some_and(|d| d < 1.0) || (4..=7).contains(&illum);
+
+    let kind = if ke.max_element() > 0.0 {
+        MeshMaterialKind::Light { emit: ke }
+    } else if transparent {
+        let ior = m.optical_density.filter(|&n| n > 0.0).unwrap_or(1.5);
+        MeshMaterialKind::Dielectric { ior }
+    } else if (ks.max_element() > 0.0 && ks.max_element() > kd.max_element()) || illum == 3 {
+        let ns = m.shininess.unwrap_or(0.0).max(0.0);
+        MeshMaterialKind::Metal {
+            color: ks.max(Vec3::splat(0.0)),
+            fuzz: fuzz_from_shininess(ns),
+        }
+    } else {
+        MeshMaterialKind::Diffuse {
+            color: kd,
+            texture: m
+                .diffuse_texture
+                .as_deref()
+                .and_then(|t| resolve_texture(&m.name, t, base, warnings)),
+        }
+    };
+    MeshMaterial {
+        name: m.name.clone(),
+        kind,
+    }
+}
+
+/// The Phong exponent `Ns` as a metal fuzz in [0, 1]: the Beckmann roughness
+/// `√(2 / (Ns + 2))` that matches a Blinn–Phong lobe of that exponent.
+pub fn fuzz_from_shininess(ns: f32) -> f32 {
+    (2.0 / (ns + 2.0)).sqrt().clamp(0.0, 1.0)
+}
+
+/// The texture file `name` relative to the OBJ's directory, or `None` with a
+/// warning when it does not exist.
+fn resolve_texture(
+    material: &str,
+    name: &str,
+    base: &Path,
+    warnings: &mut Vec<String>,
+) -> Option<PathBuf> {
+    let path = base.join(name.trim());
+    if path.is_file() {
+        Some(path)
+    } else {
+        warnings.push(format!(
+            "material `{material}`: texture `{}` not found; using its diffuse colour",
+            path.display()
+        ));
+        None
+    }
 }

@@ -1,12 +1,30 @@
 //! Surfaces of revolution of a Bézier profile about the y axis: tessellation
-//! (mesh mode) and analytic intersection by Newton iteration.
+//! (mesh mode) and analytic intersection by Newton iteration started inside
+//! exact bounding shells, with a subdivision fallback.
+
+mod distance;
+mod fallback;
+mod newton;
+mod profile;
+mod shell;
+mod tessellate;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 use crate::geometry::{Aabb, Ray};
-use crate::scene::{Bezier, MeshData};
+use crate::scene::Bezier;
+
+pub use distance::{surface_distance, tessellation_error_bound};
+pub use tessellate::tessellate;
+
+use newton::{Outcome, Window};
+use profile::Profile;
+use shell::{AxisRay, Node, Piece, Shells};
+
+/// Newton iterations per start before it counts as not converging.
+const DEFAULT_MAX_ITERATIONS: u32 = 24;
 
 /// A hit on a surface of revolution, in its object space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,34 +39,165 @@ pub struct SurfaceHit {
 
 /// The analytic surface of revolution.
 pub struct RevolutionSurface {
+    profile: Profile,
+    shells: Shells,
+    /// Absolute tolerance: `tolerance` × the profile's size.
+    tolerance: f64,
+    max_iterations: u32,
     newton_failures: AtomicU64,
 }
 
 impl RevolutionSurface {
+    /// The surface of `curve` with `resolution` shell pieces along the curve
+    /// and a Newton `tolerance` given as a fraction of the profile's size (the
+    /// larger of its diameter and height), so it means the same at any scale.
     pub fn new(curve: &Bezier, resolution: u32, tolerance: f32) -> RevolutionSurface {
-        let _ = (curve, resolution, tolerance);
-        unimplemented!("owned by the revolution work")
+        let profile = Profile::new(curve);
+        let shells = Shells::new(&profile, resolution);
+        let relative = if tolerance.is_finite() && tolerance > 0.0 {
+            (tolerance as f64).clamp(1e-12, 0.1)
+        } else {
+            1e-6
+        };
+        RevolutionSurface {
+            tolerance: relative * profile.scale,
+            profile,
+            shells,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
+            newton_failures: AtomicU64::new(0),
+        }
+    }
+
+    /// The same surface with at most `n` Newton iterations per start.
+    pub fn with_max_iterations(mut self, n: u32) -> RevolutionSurface {
+        self.max_iterations = n;
+        self
     }
 
     pub fn bounds(&self) -> Aabb {
-        unimplemented!("owned by the revolution work")
+        let p = &self.profile;
+        let pad = 1e-6 * p.scale;
+        let r = (p.max_radius + pad) as f32;
+        Aabb::new(
+            Vec3::new(-r, (p.y_range.0 - pad) as f32, -r),
+            Vec3::new(r, (p.y_range.1 + pad) as f32, r),
+        )
     }
 
     /// The nearest hit with `t` in `(t_min, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
-        let _ = (ray, t_min, t_max);
-        unimplemented!("owned by the revolution work")
+        let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        if axis_ray.dir == DVec3::ZERO || !(axis_ray.dir.is_finite() && axis_ray.origin.is_finite())
+        {
+            return None;
+        }
+        let t_min = t_min as f64;
+        let mut best: Option<(f64, f64)> = None;
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let limit = best.map_or(t_max as f64, |(_, t)| t);
+            let node = &self.shells.nodes[i];
+            let spans = node.bounds().intervals(&axis_ray, t_min, limit);
+            if spans.first_entry().is_none() {
+                continue;
+            }
+            match *node {
+                Node::Leaf { piece, .. } => {
+                    let piece = &self.shells.pieces[piece as usize];
+                    for (lo, hi) in spans.iter() {
+                        let hi = hi.min(best.map_or(hi, |(_, t)| t));
+                        if let Some(found) = self.solve_piece(&axis_ray, piece, lo, hi, t_min) {
+                            best = Some(found);
+                            break;
+                        }
+                    }
+                }
+                Node::Inner { right, .. } => {
+                    stack.push(right as usize);
+                    stack.push(i + 1);
+                }
+            }
+        }
+        best.map(|(s, t)| self.hit_at(&axis_ray, s, t))
+    }
+
+    /// The nearest root in one piece's `[lo, hi]`: Newton from the entry,
+    /// the middle and the exit of the span; if none converges but one
+    /// stalled inside the span, the subdivision fallback (counted).
+    fn solve_piece(
+        &self,
+        ray: &AxisRay,
+        piece: &Piece,
+        lo: f64,
+        hi: f64,
+        t_min: f64,
+    ) -> Option<(f64, f64)> {
+        if lo > hi {
+            return None;
+        }
+        let window = Window {
+            s0: piece.s0,
+            s1: piece.s1,
+            t0: lo,
+            t1: hi,
+            tolerance: self.tolerance,
+            max_iterations: self.max_iterations,
+        };
+        let mut stalled = false;
+        for t in [lo, 0.5 * (lo + hi), hi] {
+            let s = self.start_parameter(ray, piece, t);
+            match newton::solve(&self.profile, ray, s, t, &window) {
+                Outcome::Root { s, t } if t > t_min && t <= hi + (hi - lo) * 1e-3 => {
+                    return Some((s, t));
+                }
+                Outcome::Stalled { .. } => stalled = true,
+                _ => {}
+            }
+        }
+        if !stalled {
+            return None;
+        }
+        self.newton_failures.fetch_add(1, Ordering::Relaxed);
+        let lo = lo.max(t_min.next_up());
+        fallback::subdivide(
+            ray,
+            &piece.points,
+            (piece.s0, piece.s1),
+            (lo, hi),
+            self.tolerance,
+        )
+    }
+
+    /// A start value for `s` at ray distance `t`: the piece's parameter
+    /// interpolated by height, or by radius where the piece is flatter than
+    /// it is tall.
+    fn start_parameter(&self, ray: &AxisRay, piece: &Piece, t: f64) -> f64 {
+        let a = self.profile.eval(piece.s0).0;
+        let b = self.profile.eval(piece.s1).0;
+        let (dy, dr) = (b.y - a.y, b.x.abs() - a.x.abs());
+        let f = if dy.abs() >= dr.abs() && dy != 0.0 {
+            (ray.origin.y + t * ray.dir.y - a.y) / dy
+        } else if dr != 0.0 {
+            (ray.radius2(t).max(0.0).sqrt() - a.x.abs()) / dr
+        } else {
+            0.5
+        };
+        piece.s0 + f.clamp(0.0, 1.0) * (piece.s1 - piece.s0)
+    }
+
+    fn hit_at(&self, ray: &AxisRay, s: f64, t: f64) -> SurfaceHit {
+        let p = ray.origin + t * ray.dir;
+        let (normal, uv) = self.profile.frame(s, Profile::azimuth(p));
+        SurfaceHit {
+            t: t as f32,
+            point: p.as_vec3(),
+            normal: normal.as_vec3(),
+            uv: uv.as_vec2(),
+        }
     }
 
     /// How many intersections fell back because Newton did not converge.
     pub fn newton_failures(&self) -> u64 {
         self.newton_failures.load(Ordering::Relaxed)
     }
-}
-
-/// The surface as a triangle mesh with `resolution` segments along the curve
-/// and around the axis, uv = (angle / 2π, curve parameter).
-pub fn tessellate(curve: &Bezier, resolution: u32) -> MeshData {
-    let _ = (curve, resolution);
-    unimplemented!("owned by the revolution work")
 }

@@ -1,0 +1,74 @@
+//! `rtlang check FILE...`: every diagnostic of every file, as miette reports
+//! or as JSON lines; exit 0 when clean, 1 on errors.
+
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, ValueEnum};
+
+use rtlang::lang::{self, Options};
+
+/// How diagnostics are printed.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum Format {
+    /// miette's graphical reports.
+    #[default]
+    Human,
+    /// One JSON object per diagnostic and line.
+    Json,
+}
+
+/// Arguments of `rtlang check`.
+#[derive(Args)]
+pub struct CheckArgs {
+    /// Scene files to check.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// Override a `param`: `-D name=value` (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = super::parse_define)]
+    define: Vec<(String, String)>,
+    /// The animation frame (the value of `frame`).
+    #[arg(long, default_value_t = 0.0)]
+    frame: f64,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    format: Format,
+}
+
+/// Runs `rtlang check`.
+pub fn run(args: CheckArgs) -> ExitCode {
+    let options = Options {
+        defines: args.define,
+        frame: args.frame,
+        ..Options::default()
+    };
+    let mut errors = false;
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    let color = std::io::stderr().is_terminal();
+    for file in &args.files {
+        let outcome = lang::check(file, &options);
+        errors |= outcome.diagnostics.iter().any(lang::Diagnostic::is_error);
+        for d in &outcome.diagnostics {
+            match args.format {
+                Format::Json => {
+                    let _ = writeln!(out, "{}", d.to_json(&outcome.sources));
+                }
+                Format::Human => {
+                    let report = d.to_report(&outcome.sources);
+                    if color {
+                        eprintln!("{report:?}");
+                    } else {
+                        eprint!("{}", lang::diagnostics::render_plain(&report, 100));
+                    }
+                }
+            }
+        }
+    }
+    if errors {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}

@@ -1,0 +1,114 @@
+//! An instance places shared geometry in its parent's space: as is, by a
+//! fixed matrix with its inverse and normal matrix cached, or by a motion
+//! evaluated at the ray's time. Only moving instances look at the time.
+
+use std::sync::Arc;
+
+use glam::{Affine3A, Mat3A, Mat4};
+
+use super::object::Geometry;
+use super::sweep::swept_bounds;
+use super::{Aabb, Hit, Ray};
+use crate::render::rng::Rng;
+use crate::scene::Motion;
+
+/// A fixed object-to-parent transform with what intersection needs cached.
+#[derive(Clone, Debug)]
+pub struct StaticTransform {
+    pub to_parent: Affine3A,
+    pub to_object: Affine3A,
+    /// Inverse transpose of the linear part, for normals.
+    pub normal: Mat3A,
+}
+
+impl StaticTransform {
+    /// `None` when `m` is not an invertible affine matrix.
+    pub fn new(m: Mat4) -> Option<StaticTransform> {
+        let to_parent = Affine3A::from_mat4(m);
+        if !(to_parent.matrix3.determinant().abs() > 0.0) || !m.is_finite() {
+            return None;
+        }
+        let to_object = to_parent.inverse();
+        Some(StaticTransform {
+            to_parent,
+            to_object,
+            normal: to_object.matrix3.transpose(),
+        })
+    }
+}
+
+/// How an instance is placed.
+#[derive(Clone)]
+pub enum Placement {
+    Identity,
+    Static(Box<StaticTransform>),
+    Moving(Arc<Motion>),
+}
+
+/// Shared geometry and its placement, with the bounds in the parent space.
+#[derive(Clone)]
+pub struct Instance {
+    pub geometry: Arc<Geometry>,
+    pub placement: Placement,
+    pub bounds: Aabb,
+}
+
+/// Whether a box is non-empty and finite (it can go into a BVH).
+pub fn is_bounded(b: &Aabb) -> bool {
+    !b.is_empty() && b.min.is_finite() && b.max.is_finite()
+}
+
+impl Instance {
+    /// Places `geometry`; `shutter` bounds the times a moving one is seen at.
+    pub fn new(geometry: Arc<Geometry>, placement: Placement, shutter: (f32, f32)) -> Instance {
+        let local = geometry.bounds();
+        let bounds = if !is_bounded(&local) {
+            local
+        } else {
+            match &placement {
+                Placement::Identity => local,
+                Placement::Static(s) => local.transformed(&Mat4::from(s.to_parent)),
+                Placement::Moving(m) => swept_bounds(m, &local, shutter.0, shutter.1),
+            }
+        };
+        Instance {
+            geometry,
+            placement,
+            bounds,
+        }
+    }
+
+    /// The nearest hit with `t` in `(t_min, t_max)`, in the parent's space.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
+        match &self.placement {
+            Placement::Identity => self.geometry.intersect(ray, t_min, t_max, rng),
+            Placement::Static(s) => self.transformed(ray, s, t_min, t_max, rng),
+            Placement::Moving(motion) => {
+                let s = StaticTransform::new(motion.matrix_at(ray.time))?;
+                self.transformed(ray, &s, t_min, t_max, rng)
+            }
+        }
+    }
+
+    #[inline]
+    fn transformed(
+        &self,
+        ray: &Ray,
+        s: &StaticTransform,
+        t_min: f32,
+        t_max: f32,
+        rng: &mut Rng,
+    ) -> Option<Hit> {
+        let local = Ray::new(
+            s.to_object.transform_point3(ray.origin),
+            s.to_object.transform_vector3(ray.dir),
+            ray.time,
+        );
+        let mut h = self.geometry.intersect(&local, t_min, t_max, rng)?;
+        h.point = s.to_parent.transform_point3(h.point);
+        h.geo_normal = s.normal.mul_vec3(h.geo_normal).normalize_or(h.geo_normal);
+        h.normal = s.normal.mul_vec3(h.normal).normalize_or(h.geo_normal);
+        Some(h)
+    }
+}

@@ -1,0 +1,107 @@
+//! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus a
+//! leaf-order permutation of triangle indices (4 bytes per triangle).
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+
+use super::shapes::triangle::ShearedRay;
+use super::shapes::ShapeHit;
+use super::{Aabb, Bvh, Ray};
+use crate::scene::{MaterialId, MeshData};
+
+/// A mesh ready for intersection.
+#[derive(Debug)]
+pub struct MeshGeometry {
+    data: Arc<MeshData>,
+    order: Vec<u32>,
+    /// Scene material of each material slot of the mesh.
+    materials: Vec<MaterialId>,
+    bvh: Bvh,
+}
+
+/// A mesh hit: the surface hit with the shading normal, and the material.
+pub struct MeshHit {
+    pub hit: ShapeHit,
+    pub shading_normal: Vec3,
+    pub material: MaterialId,
+}
+
+impl MeshGeometry {
+    /// Builds the BVH over `data`'s triangles; `materials` maps slots to
+    /// scene materials and must not be empty.
+    pub fn new(data: Arc<MeshData>, materials: Vec<MaterialId>) -> MeshGeometry {
+        let bounds: Vec<Aabb> = data
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| data.positions[i as usize]);
+                Aabb::new(a.min(b).min(c), a.max(b).max(c))
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&bounds);
+        MeshGeometry {
+            data,
+            order,
+            materials,
+            bvh,
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    /// Bytes this structure adds to the shared mesh data.
+    pub fn memory(&self) -> usize {
+        self.bvh.memory() + self.order.len() * 4
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
+        let sheared = ShearedRay::new(ray);
+        let pos = &self.data.positions;
+        let mut best = None;
+        self.bvh.traverse(ray, t_max, |slot, t_max| {
+            let tri = self.order[slot];
+            let idx = self.data.triangles[tri as usize];
+            let h = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max)?;
+            best = Some((tri, h));
+            Some(h.t)
+        });
+        let (tri, h) = best?;
+        let idx = self.data.triangles[tri as usize].map(|i| i as usize);
+        let [a, b, c] = idx.map(|i| pos[i]);
+        let w = h.bary;
+        let normal = (b - a).cross(c - a).normalize_or(Vec3::Y);
+        let shading_normal = if self.data.normals.is_empty() {
+            normal
+        } else {
+            let n = &self.data.normals;
+            (w.x * n[idx[0]] + w.y * n[idx[1]] + w.z * n[idx[2]]).normalize_or(normal)
+        };
+        let uv = if self.data.uvs.is_empty() {
+            Vec2::new(w.y, w.z)
+        } else {
+            let t = &self.data.uvs;
+            w.x * t[idx[0]] + w.y * t[idx[1]] + w.z * t[idx[2]]
+        };
+        let slot = self
+            .data
+            .triangle_material
+            .get(tri as usize)
+            .copied()
+            .unwrap_or(0);
+        let material = self.materials[(slot as usize).min(self.materials.len() - 1)];
+        Some(MeshHit {
+            hit: ShapeHit {
+                t: h.t,
+                point: w.x * a + w.y * b + w.z * c,
+                normal,
+                uv,
+            },
+            shading_normal,
+            material,
+        })
+    }
+}

@@ -1,0 +1,101 @@
+//! A bottom- or mid-level object: the closed set of things an instance can
+//! place, and their intersection returning a full [`Hit`].
+
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use super::group::Group;
+use super::medium::Medium;
+use super::mesh::MeshGeometry;
+use super::primitives::PrimitiveSet;
+use super::revolution::RevolutionSurface;
+use super::shapes::{Plane, ShapeHit};
+use super::{Aabb, Hit, Ray};
+use crate::render::rng::Rng;
+use crate::scene::MaterialId;
+
+/// Geometry in its own object space.
+pub enum Geometry {
+    Primitives(PrimitiveSet),
+    Mesh(MeshGeometry),
+    Revolution {
+        surface: Arc<RevolutionSurface>,
+        material: MaterialId,
+    },
+    Plane {
+        plane: Plane,
+        material: MaterialId,
+    },
+    Group(Group),
+    Medium(Medium),
+}
+
+/// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
+#[inline]
+pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId) -> Hit {
+    let front_face = h.normal.dot(dir) < 0.0;
+    let sign = if front_face { 1.0 } else { -1.0 };
+    let geo_normal = h.normal * sign;
+    let mut normal = shading * sign;
+    if normal.dot(geo_normal) < 0.0 {
+        normal = geo_normal;
+    }
+    Hit {
+        t: h.t,
+        point: h.point,
+        geo_normal,
+        normal,
+        uv: h.uv,
+        front_face,
+        material,
+    }
+}
+
+impl Geometry {
+    /// Object-space bounds; infinite for planes.
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Geometry::Primitives(p) => p.bounds(),
+            Geometry::Mesh(m) => m.bounds(),
+            Geometry::Revolution { surface, .. } => surface.bounds(),
+            Geometry::Plane { .. } => Aabb {
+                min: Vec3::NEG_INFINITY,
+                max: Vec3::INFINITY,
+            },
+            Geometry::Group(g) => g.bounds(),
+            Geometry::Medium(m) => m.bounds(),
+        }
+    }
+
+    /// The nearest hit with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
+        match self {
+            Geometry::Primitives(p) => {
+                let (h, m) = p.intersect(ray, t_min, t_max)?;
+                Some(facing(h, h.normal, ray.dir, m))
+            }
+            Geometry::Mesh(mesh) => {
+                let h = mesh.intersect(ray, t_min, t_max)?;
+                Some(facing(h.hit, h.shading_normal, ray.dir, h.material))
+            }
+            Geometry::Revolution { surface, material } => {
+                let s = surface.intersect(ray, t_min, t_max)?;
+                let h = ShapeHit {
+                    t: s.t,
+                    point: s.point,
+                    normal: s.normal,
+                    uv: s.uv,
+                };
+                Some(facing(h, h.normal, ray.dir, *material))
+            }
+            Geometry::Plane { plane, material } => {
+                let h = plane.intersect(ray, t_min, t_max)?;
+                Some(facing(h, h.normal, ray.dir, *material))
+            }
+            Geometry::Group(g) => g.intersect(ray, t_min, t_max, rng),
+            Geometry::Medium(m) => m.intersect(ray, t_min, t_max, rng),
+        }
+    }
+}

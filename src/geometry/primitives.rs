@@ -1,0 +1,78 @@
+//! Many analytic primitives (spheres, rects, boxes, triangles) with their
+//! materials in flat arrays under one BVH.
+
+use super::shapes::{Cuboid, Rect, ShapeHit, Sphere, Triangle};
+use super::{Aabb, Bvh, Ray};
+use crate::scene::MaterialId;
+
+/// A bounded analytic primitive; the closed set matched in the hot path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Primitive {
+    Sphere(Sphere),
+    Rect(Rect),
+    Cuboid(Cuboid),
+    Triangle(Triangle),
+}
+
+impl Primitive {
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Primitive::Sphere(s) => s.bounds(),
+            Primitive::Rect(r) => r.bounds(),
+            Primitive::Cuboid(c) => c.bounds(),
+            Primitive::Triangle(t) => t.bounds(),
+        }
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        match self {
+            Primitive::Sphere(s) => s.intersect(ray, t_min, t_max),
+            Primitive::Rect(r) => r.intersect(ray, t_min, t_max),
+            Primitive::Cuboid(c) => c.intersect(ray, t_min, t_max),
+            Primitive::Triangle(t) => t.intersect(ray, t_min, t_max),
+        }
+    }
+}
+
+/// Primitives in BVH leaf order, each with its material.
+#[derive(Debug, Default)]
+pub struct PrimitiveSet {
+    prims: Vec<Primitive>,
+    materials: Vec<MaterialId>,
+    bvh: Bvh,
+}
+
+impl PrimitiveSet {
+    pub fn new(items: Vec<(Primitive, MaterialId)>) -> PrimitiveSet {
+        let bounds: Vec<Aabb> = items.iter().map(|(p, _)| p.bounds()).collect();
+        let (bvh, order) = Bvh::build(&bounds);
+        let (prims, materials) = order.iter().map(|&i| items[i as usize]).unzip();
+        PrimitiveSet {
+            prims,
+            materials,
+            bvh,
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    /// The nearest hit in `(t_min, t_max)` with its material.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(ShapeHit, MaterialId)> {
+        let mut best = None;
+        self.bvh.traverse(ray, t_max, |slot, t_max| {
+            let h = self.prims[slot].intersect(ray, t_min, t_max)?;
+            best = Some((h, self.materials[slot]));
+            Some(h.t)
+        });
+        best
+    }
+
+    /// Whether the set holds no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.prims.is_empty()
+    }
+}

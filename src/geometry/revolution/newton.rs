@@ -1,0 +1,79 @@
+//! Newton iteration on (curve parameter `s`, ray distance `t`) for
+//! `x(s)² = ρ²(t)` and `y(s) = y(t)`, the seed's system, in `f64`.
+
+use super::profile::Profile;
+use super::shell::AxisRay;
+
+/// How a Newton run ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    /// Converged to `(s, t)`.
+    Root { s: f64, t: f64 },
+    /// Left the allowed parameter window or met a singular Jacobian before
+    /// converging far from any root: no root near this start.
+    Left,
+    /// Ran out of iterations (or hit a singular Jacobian) while still inside
+    /// the window: a genuine failure to converge.
+    Stalled { s: f64, t: f64 },
+}
+
+/// The allowed window and the stopping rule of one Newton run.
+#[derive(Clone, Copy, Debug)]
+pub struct Window {
+    pub s0: f64,
+    pub s1: f64,
+    pub t0: f64,
+    pub t1: f64,
+    /// Absolute geometric tolerance (object-space distance).
+    pub tolerance: f64,
+    pub max_iterations: u32,
+}
+
+/// Runs Newton from `(s, t)`. The result is a root only if the final step
+/// and the residual are both below the tolerance in object-space distance.
+pub fn solve(profile: &Profile, ray: &AxisRay, mut s: f64, mut t: f64, w: &Window) -> Outcome {
+    let dir_len = ray.dir.length();
+    let s_slack = 1e-3 * (w.s1 - w.s0);
+    let t_slack = 1e-3 * (w.t1 - w.t0) + w.tolerance / dir_len;
+    for _ in 0..w.max_iterations {
+        let (p, d) = profile.eval(s);
+        let rho2 = ray.radius2(t);
+        let f1 = p.x * p.x - rho2;
+        let f2 = p.y - (ray.origin.y + t * ray.dir.y);
+        let j11 = 2.0 * p.x * d.x;
+        let j12 = -2.0 * (ray.a * t + ray.b);
+        let j21 = d.y;
+        let j22 = -ray.dir.y;
+        let det = j11 * j22 - j12 * j21;
+        if det == 0.0 || !det.is_finite() {
+            return Outcome::Stalled { s, t };
+        }
+        let ds = (f1 * j22 - f2 * j12) / det;
+        let dt = (j11 * f2 - j21 * f1) / det;
+        s -= ds;
+        t -= dt;
+        if !(s.is_finite() && t.is_finite()) {
+            return Outcome::Left;
+        }
+        if s < w.s0 - s_slack || s > w.s1 + s_slack || t < w.t0 - t_slack || t > w.t1 + t_slack {
+            return Outcome::Left;
+        }
+        let step = ds.abs() * d.length() + dt.abs() * dir_len;
+        if step < w.tolerance && residual(profile, ray, s, t) < w.tolerance {
+            return Outcome::Root {
+                s: s.clamp(0.0, 1.0),
+                t,
+            };
+        }
+    }
+    Outcome::Stalled { s, t }
+}
+
+/// The distance-like residual at `(s, t)`: the height mismatch and the
+/// radius mismatch `|x(s)| − ρ(t)` in object-space units.
+pub fn residual(profile: &Profile, ray: &AxisRay, s: f64, t: f64) -> f64 {
+    let p = profile.eval(s).0;
+    let rho = ray.radius2(t).max(0.0).sqrt();
+    let dy = (p.y - (ray.origin.y + t * ray.dir.y)).abs();
+    dy.max((p.x.abs() - rho).abs())
+}

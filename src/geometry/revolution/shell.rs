@@ -1,0 +1,239 @@
+//! The bounding shells of the analytic surface: the profile cut into
+//! `resolution` pieces, each bounded (by the convex-hull property of its
+//! de Casteljau control points) by an annular box — the solid between an
+//! inner and an outer coaxial cylinder and two horizontal planes — arranged
+//! in a binary tree, and the exact ray/annular-box test.
+
+use glam::{DVec2, DVec3};
+
+use super::profile::Profile;
+use crate::scene::curve::{control_bounds, sub_curve};
+
+/// The ray in the form the shells and Newton need, in `f64`: the squared
+/// distance to the axis is `a t² + 2 b t + c`, the height `oy + t dy`.
+#[derive(Clone, Copy, Debug)]
+pub struct AxisRay {
+    pub origin: DVec3,
+    pub dir: DVec3,
+    pub a: f64,
+    pub b: f64,
+    pub c: f64,
+}
+
+impl AxisRay {
+    pub fn new(origin: DVec3, dir: DVec3) -> AxisRay {
+        AxisRay {
+            origin,
+            dir,
+            a: dir.x * dir.x + dir.z * dir.z,
+            b: origin.x * dir.x + origin.z * dir.z,
+            c: origin.x * origin.x + origin.z * origin.z,
+        }
+    }
+
+    /// Squared distance to the axis at `t`.
+    #[inline]
+    pub fn radius2(&self, t: f64) -> f64 {
+        (self.a * t + 2.0 * self.b) * t + self.c
+    }
+
+    /// The `t` interval on which the squared axis distance is `≤ r2`, if any.
+    fn within_radius(&self, r2: f64) -> Option<(f64, f64)> {
+        let k = self.c - r2;
+        if self.a <= 0.0 {
+            return (k <= 0.0).then_some((f64::NEG_INFINITY, f64::INFINITY));
+        }
+        let disc = self.b * self.b - self.a * k;
+        if disc < 0.0 {
+            return None;
+        }
+        let q = -(self.b + self.b.signum() * disc.sqrt());
+        if q == 0.0 {
+            return Some((0.0, 0.0));
+        }
+        let (t0, t1) = (q / self.a, k / q);
+        Some((t0.min(t1), t0.max(t1)))
+    }
+}
+
+/// A solid of revolution `r_in ≤ ρ ≤ r_out`, `y_lo ≤ y ≤ y_hi`.
+#[derive(Clone, Copy, Debug)]
+pub struct AnnularBox {
+    pub r_in: f64,
+    pub r_out: f64,
+    pub y_lo: f64,
+    pub y_hi: f64,
+}
+
+impl AnnularBox {
+    /// The box bounding a piece of profile given by its control points,
+    /// grown by `pad` on every side.
+    pub fn of_control_points(points: &[DVec2], pad: f64) -> AnnularBox {
+        let (lo, hi) = control_bounds(points);
+        let r_in = if lo.x <= 0.0 && hi.x >= 0.0 {
+            0.0
+        } else {
+            lo.x.abs().min(hi.x.abs())
+        };
+        AnnularBox {
+            r_in: (r_in - pad).max(0.0),
+            r_out: lo.x.abs().max(hi.x.abs()) + pad,
+            y_lo: lo.y - pad,
+            y_hi: hi.y + pad,
+        }
+    }
+
+    pub fn union(&self, o: &AnnularBox) -> AnnularBox {
+        AnnularBox {
+            r_in: self.r_in.min(o.r_in),
+            r_out: self.r_out.max(o.r_out),
+            y_lo: self.y_lo.min(o.y_lo),
+            y_hi: self.y_hi.max(o.y_hi),
+        }
+    }
+
+    /// The largest side of the box's profile rectangle.
+    pub fn size(&self) -> f64 {
+        (self.r_out - self.r_in).max(self.y_hi - self.y_lo)
+    }
+
+    /// The (up to two) `t` intervals within `[lo, hi]` where the ray is
+    /// inside the box, nearest first.
+    pub fn intervals(&self, ray: &AxisRay, lo: f64, hi: f64) -> Intervals {
+        let mut out = Intervals::default();
+        let (mut lo, mut hi) = (lo, hi);
+        if ray.dir.y != 0.0 {
+            let t0 = (self.y_lo - ray.origin.y) / ray.dir.y;
+            let t1 = (self.y_hi - ray.origin.y) / ray.dir.y;
+            lo = lo.max(t0.min(t1));
+            hi = hi.min(t0.max(t1));
+        } else if ray.origin.y < self.y_lo || ray.origin.y > self.y_hi {
+            return out;
+        }
+        let Some((o0, o1)) = ray.within_radius(self.r_out * self.r_out) else {
+            return out;
+        };
+        lo = lo.max(o0);
+        hi = hi.min(o1);
+        if lo > hi {
+            return out;
+        }
+        match ray
+            .within_radius(self.r_in * self.r_in)
+            .filter(|_| self.r_in > 0.0)
+        {
+            Some((i0, i1)) => {
+                out.push(lo, hi.min(i0));
+                out.push(lo.max(i1), hi);
+            }
+            None => out.push(lo, hi),
+        }
+        out
+    }
+}
+
+/// Up to two disjoint `t` intervals, in increasing order.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Intervals {
+    spans: [(f64, f64); 2],
+    len: usize,
+}
+
+impl Intervals {
+    fn push(&mut self, lo: f64, hi: f64) {
+        if lo <= hi && self.len < 2 {
+            self.spans[self.len] = (lo, hi);
+            self.len += 1;
+        }
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.spans[..self.len].iter().copied()
+    }
+
+    pub fn first_entry(&self) -> Option<f64> {
+        (self.len > 0).then(|| self.spans[0].0)
+    }
+}
+
+/// One piece of the profile: its parameter range, control points and box.
+#[derive(Clone, Debug)]
+pub struct Piece {
+    pub s0: f64,
+    pub s1: f64,
+    pub points: Vec<DVec2>,
+    pub bounds: AnnularBox,
+}
+
+/// A node of the shell tree: leaves are pieces, inner nodes the union of
+/// their two children's boxes. Stored flat, children after their parent.
+#[derive(Clone, Copy, Debug)]
+pub enum Node {
+    Leaf { bounds: AnnularBox, piece: u32 },
+    Inner { bounds: AnnularBox, right: u32 },
+}
+
+impl Node {
+    pub fn bounds(&self) -> &AnnularBox {
+        match self {
+            Node::Leaf { bounds, .. } | Node::Inner { bounds, .. } => bounds,
+        }
+    }
+}
+
+/// The shells: the pieces and the tree over them.
+#[derive(Clone, Debug)]
+pub struct Shells {
+    pub pieces: Vec<Piece>,
+    pub nodes: Vec<Node>,
+}
+
+impl Shells {
+    /// Cuts `profile` into `resolution` pieces of equal parameter length.
+    pub fn new(profile: &Profile, resolution: u32) -> Shells {
+        let n = resolution.max(1) as usize;
+        let pad = profile.scale * 1e-9;
+        let pieces: Vec<Piece> = (0..n)
+            .map(|i| {
+                let (s0, s1) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+                let points = sub_curve(&profile.points, s0, s1);
+                let bounds = AnnularBox::of_control_points(&points, pad);
+                Piece {
+                    s0,
+                    s1,
+                    points,
+                    bounds,
+                }
+            })
+            .collect();
+        let mut nodes = Vec::with_capacity(2 * n);
+        build(&pieces, 0, n, &mut nodes);
+        Shells { pieces, nodes }
+    }
+}
+
+fn build(pieces: &[Piece], first: usize, end: usize, nodes: &mut Vec<Node>) -> AnnularBox {
+    if end - first == 1 {
+        let bounds = pieces[first].bounds;
+        nodes.push(Node::Leaf {
+            bounds,
+            piece: first as u32,
+        });
+        return bounds;
+    }
+    let at = nodes.len();
+    nodes.push(Node::Leaf {
+        bounds: pieces[first].bounds,
+        piece: 0,
+    });
+    let mid = (first + end) / 2;
+    let left = build(pieces, first, mid, nodes);
+    let right_index = nodes.len() as u32;
+    let right = build(pieces, mid, end, nodes);
+    let bounds = left.union(&right);
+    nodes[at] = Node::Inner {
+        bounds,
+        right: right_index,
+    };
+    bounds
+}

@@ -1,0 +1,161 @@
+//! Watertight ray/triangle intersection (Woop, Benthin and Wald 2013): the
+//! ray is sheared onto the +z axis once, and edge functions decide coverage,
+//! falling back to f64 when one is exactly zero, so rays aimed at a shared
+//! edge or vertex of a closed mesh hit at least one of its triangles.
+
+use glam::{DVec2, Vec2, Vec3};
+
+use super::ShapeHit;
+use crate::geometry::{Aabb, Ray};
+
+/// A single triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    pub v: [Vec3; 3],
+}
+
+/// The per-ray part of the watertight test: the permutation putting the
+/// ray's dominant axis last and the shear aligning it with +z.
+#[derive(Clone, Copy, Debug)]
+pub struct ShearedRay {
+    origin: Vec3,
+    k: [usize; 3],
+    shear: Vec3,
+}
+
+/// Where a ray crosses a triangle: distance and barycentric weights of the
+/// three vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleHit {
+    pub t: f32,
+    pub bary: Vec3,
+}
+
+impl ShearedRay {
+    pub fn new(ray: &Ray) -> ShearedRay {
+        let kz = ray.dir.abs().max_position();
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if ray.dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let dz = ray.dir[kz];
+        ShearedRay {
+            origin: ray.origin,
+            k: [kx, ky, kz],
+            shear: Vec3::new(ray.dir[kx] / dz, ray.dir[ky] / dz, 1.0 / dz),
+        }
+    }
+
+    /// The hit on triangle `p` with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn intersect(&self, p: [Vec3; 3], t_min: f32, t_max: f32) -> Option<TriangleHit> {
+        let [kx, ky, kz] = self.k;
+        let s = self.shear;
+        let rel = p.map(|v| v - self.origin);
+        let xy = rel.map(|a| Vec2::new(a[kx] - s.x * a[kz], a[ky] - s.y * a[kz]));
+        let [a, b, c] = xy;
+        let mut u = c.x * b.y - c.y * b.x;
+        let mut v = a.x * c.y - a.y * c.x;
+        let mut w = b.x * a.y - b.y * a.x;
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            let [a, b, c] = xy.map(|q| DVec2::new(q.x as f64, q.y as f64));
+            u = (c.x * b.y - c.y * b.x) as f32;
+            v = (a.x * c.y - a.y * c.x) as f32;
+            w = (b.x * a.y - b.y * a.x) as f32;
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let z = rel.map(|q| s.z * q[kz]);
+        let t_scaled = u * z[0] + v * z[1] + w * z[2];
+        let t = t_scaled / det;
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        Some(TriangleHit {
+            t,
+            bary: Vec3::new(u, v, w) / det,
+        })
+    }
+}
+
+impl Triangle {
+    pub fn bounds(&self) -> Aabb {
+        let [a, b, c] = self.v;
+        Aabb::new(a.min(b).min(c), a.max(b).max(c))
+    }
+
+    /// The hit with `t` in `(t_min, t_max)`; the outward normal follows the
+    /// counter-clockwise winding, uv are the barycentrics of vertices 1, 2.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let h = ShearedRay::new(ray).intersect(self.v, t_min, t_max)?;
+        let [a, b, c] = self.v;
+        Some(ShapeHit {
+            t: h.t,
+            point: h.bary.x * a + h.bary.y * b + h.bary.z * c,
+            normal: (b - a).cross(c - a).normalize_or(Vec3::Y),
+            uv: Vec2::new(h.bary.y, h.bary.z),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::ray::offset_origin;
+
+    #[test]
+    fn hits_interior_misses_outside_and_degenerate() {
+        let tri = Triangle {
+            v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+        };
+        let h = tri
+            .intersect(
+                &Ray::new(Vec3::new(0.25, 0.25, 2.0), Vec3::NEG_Z, 0.0),
+                0.0,
+                f32::INFINITY,
+            )
+            .expect("hits");
+        assert!((h.t - 2.0).abs() < 1e-6);
+        assert!((h.point - Vec3::new(0.25, 0.25, 0.0)).length() < 1e-6);
+        assert_eq!(h.normal, Vec3::Z);
+        let miss = Ray::new(Vec3::new(0.75, 0.75, 2.0), Vec3::NEG_Z, 0.0);
+        assert!(tri.intersect(&miss, 0.0, f32::INFINITY).is_none());
+        let flat = Triangle {
+            v: [Vec3::ZERO, Vec3::X, Vec3::X * 2.0],
+        };
+        let r = Ray::new(Vec3::new(0.5, 0.0, 1.0), Vec3::NEG_Z, 0.0);
+        assert!(flat.intersect(&r, 0.0, f32::INFINITY).is_none());
+        let parallel = Ray::new(Vec3::new(-1.0, 0.25, 0.0), Vec3::X, 0.0);
+        assert!(tri.intersect(&parallel, 0.0, f32::INFINITY).is_none());
+    }
+
+    #[test]
+    fn leaving_rays_do_not_rehit_far_from_origin() {
+        let o = Vec3::splat(1e5);
+        let tri = Triangle {
+            v: [o, o + Vec3::X * 3.0, o + Vec3::Y * 3.0],
+        };
+        let p = o + Vec3::new(1.0, 1.0, 0.0);
+        for d in [
+            Vec3::Z,
+            Vec3::new(1.0, 0.0, 1e-3),
+            Vec3::new(-0.5, 0.3, 0.2),
+        ] {
+            let from = offset_origin(p, Vec3::Z, d);
+            assert!(tri
+                .intersect(&Ray::new(from, d, 0.0), 0.0, f32::INFINITY)
+                .is_none());
+            let from = offset_origin(p, Vec3::Z, -d);
+            assert!(tri
+                .intersect(&Ray::new(from, -d, 0.0), 0.0, f32::INFINITY)
+                .is_none());
+        }
+    }
+}

@@ -1,0 +1,208 @@
+//! Diagnostics of the language: a plain record with a stable code, spans and
+//! a help line, rendered as miette reports (graphical) or as JSON.
+
+use std::fmt;
+
+use miette::{LabeledSpan, NamedSource, SourceSpan};
+use serde::Serialize;
+
+use super::source::{SourceMap, Span};
+
+/// How bad a diagnostic is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+/// One problem found in a scene, with where it is and how to fix it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    pub severity: Severity,
+    /// A stable code such as `rtlang::unknown-name`.
+    pub code: &'static str,
+    pub message: String,
+    /// The main location; `None` for problems outside any file (a bad `-D`).
+    pub span: Option<Span>,
+    /// What the underline of the main span says.
+    pub label: String,
+    /// Further locations (for example the first of two duplicate definitions).
+    pub related: Vec<(Span, String)>,
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    /// An error with code `code` at `span`.
+    pub fn error(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Error,
+            code,
+            message: message.into(),
+            span: Some(span),
+            label: String::new(),
+            related: Vec::new(),
+            help: None,
+        }
+    }
+
+    /// A warning with code `code` at `span`.
+    pub fn warning(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Warning,
+            ..Diagnostic::error(code, span, message)
+        }
+    }
+
+    /// An error that points at no source text.
+    pub fn global(code: &'static str, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            span: None,
+            ..Diagnostic::error(code, Span::default(), message)
+        }
+    }
+
+    /// Sets the label under the main span.
+    pub fn label(mut self, label: impl Into<String>) -> Diagnostic {
+        self.label = label.into();
+        self
+    }
+
+    /// Sets the help line.
+    pub fn help(mut self, help: impl Into<String>) -> Diagnostic {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Adds a secondary labelled location.
+    pub fn related(mut self, span: Span, label: impl Into<String>) -> Diagnostic {
+        self.related.push((span, label.into()));
+        self
+    }
+
+    /// Whether this is an error (not a warning).
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// A miette report that renders this diagnostic with its source.
+    pub fn to_report(&self, sources: &SourceMap) -> miette::Report {
+        let source = self.span.map(|span| {
+            let file = sources.file(span.file);
+            NamedSource::new(file.name.clone(), file.text.to_string())
+        });
+        let mut labels = Vec::new();
+        if let Some(span) = self.span {
+            labels.push(LabeledSpan::new_primary_with_span(
+                Some(self.label.clone()).filter(|l| !l.is_empty()),
+                to_source_span(span),
+            ));
+            for (other, text) in &self.related {
+                if other.file == span.file {
+                    labels.push(LabeledSpan::new_with_span(
+                        Some(text.clone()),
+                        to_source_span(*other),
+                    ));
+                }
+            }
+        }
+        miette::Report::new(Rendered {
+            diagnostic: self.clone(),
+            source,
+            labels,
+        })
+    }
+
+    /// The machine-readable form printed by `rtlang check --format json`.
+    pub fn to_json(&self, sources: &SourceMap) -> serde_json::Value {
+        let (file, line, column, span) = match self.span {
+            Some(s) => {
+                let f = sources.file(s.file);
+                let (line, column) = f.line_col(s.start as usize);
+                (
+                    Some(f.name.clone()),
+                    Some(line),
+                    Some(column),
+                    Some([s.start, s.end]),
+                )
+            }
+            None => (None, None, None, None),
+        };
+        serde_json::json!({
+            "severity": self.severity,
+            "code": self.code,
+            "message": self.message,
+            "file": file,
+            "line": line,
+            "column": column,
+            "span": span,
+            "label": self.label,
+            "help": self.help,
+        })
+    }
+}
+
+fn to_source_span(span: Span) -> SourceSpan {
+    SourceSpan::new((span.start as usize).into(), span.len())
+}
+
+/// A diagnostic paired with its source text, as miette wants it.
+#[derive(Debug)]
+struct Rendered {
+    diagnostic: Diagnostic,
+    source: Option<NamedSource<String>>,
+    labels: Vec<LabeledSpan>,
+}
+
+impl fmt::Display for Rendered {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.diagnostic.message)
+    }
+}
+
+impl std::error::Error for Rendered {}
+
+impl miette::Diagnostic for Rendered {
+    fn code<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        Some(Box::new(self.diagnostic.code))
+    }
+
+    fn severity(&self) -> Option<miette::Severity> {
+        Some(match self.diagnostic.severity {
+            Severity::Error => miette::Severity::Error,
+            Severity::Warning => miette::Severity::Warning,
+        })
+    }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        self.diagnostic
+            .help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+
+    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+        self.source.as_ref().map(|s| s as &dyn miette::SourceCode)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        if self.labels.is_empty() {
+            None
+        } else {
+            Some(Box::new(self.labels.iter().cloned()))
+        }
+    }
+}
+
+/// Renders a report as miette's graphical output without colours at a fixed
+/// width, the form used by snapshot tests and `rtlang check` when piped.
+pub fn render_plain(report: &miette::Report, width: usize) -> String {
+    let handler =
+        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+            .with_width(width);
+    let mut out = String::new();
+    match handler.render_report(&mut out, report.as_ref()) {
+        Ok(()) => out,
+        Err(_) => report.to_string(),
+    }
+}

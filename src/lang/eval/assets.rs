@@ -1,0 +1,174 @@
+//! Files a scene refers to: image textures and OBJ meshes, loaded only when
+//! used, once per path, with the path tried in every error.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::{Eval, Evaluator};
+use crate::lang::diagnostics::Diagnostic;
+use crate::lang::source::Span;
+use crate::scene::mesh::MeshMaterialKind;
+use crate::scene::{ImageData, Material, MaterialId, MeshId, Texture, TextureId};
+
+const IMAGE_TYPES: &[&str] = &["png", "jpg", "jpeg"];
+
+impl Evaluator {
+    /// Resolves `path` against the directory of the file `span` is in.
+    fn resolve(&self, path: &str, span: Span) -> PathBuf {
+        let p = Path::new(path);
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.base_dir(span).join(p)
+        }
+    }
+
+    /// An error unless `path` has one of the `allowed` extensions.
+    fn check_type(&mut self, path: &Path, span: Span, allowed: &[&str], what: &str) -> Eval<()> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        if allowed.contains(&ext.as_str()) {
+            return Ok(());
+        }
+        Err(self.report(
+            Diagnostic::error(
+                "rtlang::file-type",
+                span,
+                format!("`{}` is not a supported {what} file", path.display()),
+            )
+            .label("unsupported file type")
+            .help(format!("{what} files must end in .{}", allowed.join(", ."))),
+        ))
+    }
+
+    /// The texture of the image file `path` (loaded once).
+    pub(super) fn image_texture(&mut self, path: &str, span: Span) -> Eval<TextureId> {
+        let full = self.resolve(path, span);
+        self.check_type(&full, span, IMAGE_TYPES, "image")?;
+        if self.dry {
+            return Ok(TextureId(0));
+        }
+        if let Some(&id) = self.caches.images.get(&full) {
+            return Ok(id);
+        }
+        match ImageData::load(&full) {
+            Ok(image) => {
+                let id = self.scene.add_texture(Texture::Image(Arc::new(image)));
+                self.caches.images.insert(full, id);
+                Ok(id)
+            }
+            Err(e) => Err(self.report(
+                Diagnostic::error("rtlang::io", span, e.to_string())
+                    .label("image used here")
+                    .help("relative paths resolve against the directory of the scene file"),
+            )),
+        }
+    }
+
+    /// The mesh of the OBJ file `path` and the scene materials of its slots
+    /// (loaded once; OBJ warnings become warnings at `span`).
+    pub(super) fn mesh(&mut self, path: &str, span: Span) -> Eval<(MeshId, Vec<MaterialId>)> {
+        let full = self.resolve(path, span);
+        self.check_type(&full, span, &["obj"], "mesh")?;
+        if self.dry {
+            return Ok((MeshId(0), Vec::new()));
+        }
+        if let Some(hit) = self.caches.meshes.get(&full) {
+            return Ok(hit.clone());
+        }
+        let loaded = match crate::scene::obj::load_obj(&full) {
+            Ok(loaded) => loaded,
+            Err(e) => {
+                return Err(self.report(
+                    Diagnostic::error("rtlang::mesh", span, e.to_string())
+                        .label("mesh used here")
+                        .help("relative paths resolve against the directory of the scene file"),
+                ))
+            }
+        };
+        for warning in loaded.warnings {
+            self.diagnostics.push(
+                Diagnostic::warning("rtlang::mesh-warning", span, warning)
+                    .label("in this mesh")
+                    .help("the mesh loads with a fallback for what is missing"),
+            );
+        }
+        let dir = full.parent().map(Path::to_path_buf).unwrap_or_default();
+        let kinds: Vec<MeshMaterialKind> = if loaded.mesh.materials.is_empty() {
+            vec![MeshMaterialKind::fallback()]
+        } else {
+            loaded
+                .mesh
+                .materials
+                .iter()
+                .map(|m| m.kind.clone())
+                .collect()
+        };
+        let materials = kinds
+            .iter()
+            .map(|kind| self.mesh_material(kind, &dir, span))
+            .collect();
+        let id = self.scene.add_mesh(Arc::new(loaded.mesh));
+        let entry = (id, materials);
+        self.caches.meshes.insert(full, entry.clone());
+        Ok(entry)
+    }
+
+    /// A scene material for one of an OBJ's material slots.
+    fn mesh_material(&mut self, kind: &MeshMaterialKind, dir: &Path, span: Span) -> MaterialId {
+        let solid = |ev: &mut Evaluator, c: glam::Vec3| ev.scene.add_texture(Texture::Solid(c));
+        let material = match kind {
+            MeshMaterialKind::Diffuse { color, texture } => {
+                let albedo = match texture {
+                    Some(file) => self
+                        .mesh_texture(&dir.join(file), span)
+                        .unwrap_or_else(|| solid(self, *color)),
+                    None => solid(self, *color),
+                };
+                Material::Lambertian { albedo }
+            }
+            MeshMaterialKind::Metal { color, fuzz } => Material::Metal {
+                albedo: solid(self, *color),
+                fuzz: *fuzz,
+            },
+            MeshMaterialKind::Dielectric { ior } => Material::Dielectric { ior: *ior },
+            MeshMaterialKind::Light { emit } => Material::Light {
+                emit: solid(self, *emit),
+                two_sided: false,
+            },
+        };
+        self.scene.add_material(material)
+    }
+
+    /// An image named by an MTL file; a failure is a warning (the caller
+    /// falls back to the plain colour).
+    fn mesh_texture(&mut self, full: &Path, span: Span) -> Option<TextureId> {
+        if let Some(&id) = self.caches.images.get(full) {
+            return Some(id);
+        }
+        match ImageData::load(full) {
+            Ok(image) => {
+                let id = self.scene.add_texture(Texture::Image(Arc::new(image)));
+                self.caches.images.insert(full.to_path_buf(), id);
+                Some(id)
+            }
+            Err(e) => {
+                self.diagnostics.push(
+                    Diagnostic::warning(
+                        "rtlang::mesh-warning",
+                        span,
+                        format!("{e}; using the material's colour"),
+                    )
+                    .label("in this mesh's materials")
+                    .help(
+                        "put the texture next to the MTL file, or override the mesh's `material`",
+                    ),
+                );
+                None
+            }
+        }
+    }
+}

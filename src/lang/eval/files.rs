@@ -1,0 +1,173 @@
+//! Reading scene files: size, encoding and emptiness checks, parsing, and
+//! splicing `include`d files in place (each file once; cycles are errors).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::Evaluator;
+use crate::lang::ast::Item;
+use crate::lang::diagnostics::Diagnostic;
+use crate::lang::source::Span;
+use crate::lang::syntax;
+
+/// The largest scene file accepted.
+pub const MAX_FILE_BYTES: u64 = 64 << 20;
+/// The deepest chain of includes accepted.
+const MAX_INCLUDE_DEPTH: usize = 32;
+
+impl Evaluator {
+    /// Reads the main file and everything it includes, in order.
+    pub(super) fn load_all(&mut self, path: &Path) -> Vec<Item> {
+        let mut items = Vec::new();
+        let mut stack = Vec::new();
+        let mut seen = Vec::new();
+        self.load_file(path, None, &mut stack, &mut seen, &mut items);
+        items
+    }
+
+    fn load_file(
+        &mut self,
+        path: &Path,
+        from: Option<Span>,
+        stack: &mut Vec<PathBuf>,
+        seen: &mut Vec<PathBuf>,
+        out: &mut Vec<Item>,
+    ) {
+        let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        if let Some(span) = from {
+            if stack.contains(&key) {
+                self.report(
+                    Diagnostic::error(
+                        "rtlang::include-cycle",
+                        span,
+                        format!("`{}` includes itself", path.display()),
+                    )
+                    .label("this include closes a cycle")
+                    .help("remove one of the includes in the cycle"),
+                );
+                return;
+            }
+            if stack.len() >= MAX_INCLUDE_DEPTH {
+                self.report(
+                    Diagnostic::error(
+                        "rtlang::too-deep",
+                        span,
+                        format!("includes nest more than {MAX_INCLUDE_DEPTH} deep"),
+                    )
+                    .help("flatten the chain of includes"),
+                );
+                return;
+            }
+            if seen.contains(&key) {
+                return;
+            }
+        }
+        let Some(text) = self.read_source(path, from) else {
+            return;
+        };
+        let file = self
+            .sources
+            .add(path, path.display().to_string(), text.clone());
+        if text.trim().is_empty() {
+            let span = Span::new(file, 0, 0);
+            let d = Diagnostic::error("rtlang::empty-file", span, "the scene file is empty")
+                .help("a scene needs at least one object; see docs/language.md");
+            if from.is_none() {
+                self.report(d);
+            }
+            return;
+        }
+        let (ast, problems) = match syntax::parse_file(&text, file) {
+            Ok(parsed) => parsed,
+            Err(d) => {
+                self.report(d);
+                return;
+            }
+        };
+        self.diagnostics.extend(problems);
+        stack.push(key.clone());
+        seen.push(key);
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        for item in ast.items {
+            if let Item::Include { path: rel, span } = &item {
+                let target = dir.join(rel);
+                self.load_file(&target, Some(*span), stack, seen, out);
+            } else {
+                out.push(item);
+            }
+        }
+        stack.pop();
+    }
+
+    /// The text of a source file, or a reported diagnostic.
+    fn read_source(&mut self, path: &Path, from: Option<Span>) -> Option<Arc<str>> {
+        let located = |d: Diagnostic| match from {
+            Some(span) => Diagnostic {
+                span: Some(span),
+                ..d
+            },
+            None => d,
+        };
+        let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+        if size > MAX_FILE_BYTES {
+            let d = Diagnostic::global(
+                "rtlang::file-too-large",
+                format!(
+                    "`{}` is {:.1} MiB, more than the {} MiB a scene file may have",
+                    path.display(),
+                    size as f64 / (1u64 << 20) as f64,
+                    MAX_FILE_BYTES >> 20
+                ),
+            )
+            .help("generate large scenes with `repeat` loops, or load geometry with `mesh`");
+            self.report(located(d));
+            return None;
+        }
+        let bytes = match std::fs::read(path) {
+            Ok(bytes) => bytes,
+            Err(e) => {
+                let d = Diagnostic::global(
+                    "rtlang::io",
+                    format!("cannot read `{}`: {e}", path.display()),
+                )
+                .label("included here")
+                .help("check the path; relative paths resolve against the including file");
+                self.report(located(d));
+                return None;
+            }
+        };
+        if bytes.contains(&0) {
+            let lossy: Arc<str> = String::from_utf8_lossy(&bytes).into();
+            let nul = lossy.find('\0').unwrap_or(0);
+            let file = self.sources.add(path, path.display().to_string(), lossy);
+            self.report(
+                Diagnostic::error(
+                    "rtlang::binary-file",
+                    Span::new(file, nul, nul + 1),
+                    format!("`{}` is a binary file, not a scene", path.display()),
+                )
+                .label("a NUL byte")
+                .help("scene files are UTF-8 text"),
+            );
+            return None;
+        }
+        match String::from_utf8(bytes) {
+            Ok(text) => Some(text.into()),
+            Err(e) => {
+                let at = e.utf8_error().valid_up_to();
+                let lossy: Arc<str> = String::from_utf8_lossy(e.as_bytes()).into();
+                let file = self.sources.add(path, path.display().to_string(), lossy);
+                self.report(
+                    Diagnostic::error(
+                        "rtlang::not-utf8",
+                        Span::new(file, at, at + '\u{fffd}'.len_utf8()),
+                        format!("`{}` is not valid UTF-8", path.display()),
+                    )
+                    .label("invalid byte")
+                    .help("save the file as UTF-8"),
+                );
+                None
+            }
+        }
+    }
+}

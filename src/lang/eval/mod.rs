@@ -1,0 +1,226 @@
+//! Evaluation: the syntax trees of a scene file and its includes → a
+//! [`Scene`], with every semantic check. Split by concern: files and
+//! includes, definitions, expressions, built-in calls, objects, transforms,
+//! motion, settings and assets.
+
+mod assets;
+mod builtins;
+mod convert;
+mod defs;
+mod exprs;
+mod files;
+mod issue;
+mod math;
+mod motion;
+mod objects;
+mod props;
+mod settings;
+mod transforms;
+mod value;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::scene::{MaterialId, MeshId, ProtoId, Scene, TextureId};
+
+use super::ast::{Expr, Ident, Item};
+use super::diagnostics::Diagnostic;
+use super::source::{SourceMap, Span};
+
+pub use math::random;
+use value::Value;
+
+/// What a scene is evaluated with besides its text.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// `-D name=value` overrides of `param`s.
+    pub defines: Vec<(String, String)>,
+    /// The animation frame, the value of the name `frame`.
+    pub frame: f64,
+    /// Frames per second, the value of the name `fps`.
+    pub fps: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            defines: Vec::new(),
+            frame: 0.0,
+            fps: 24.0,
+        }
+    }
+}
+
+/// The result of evaluating a scene: the scene when there is no error, all
+/// diagnostics, and the sources they point into.
+pub struct Outcome {
+    pub scene: Option<Scene>,
+    pub diagnostics: Vec<Diagnostic>,
+    pub sources: SourceMap,
+}
+
+/// Marks a failure that has already been reported as a diagnostic.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Fail;
+
+pub(crate) type Eval<T> = Result<T, Fail>;
+
+/// Whether a definition is a `let` or a `param`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DefKind {
+    Let,
+    Param,
+}
+
+/// Where a definition's evaluation stands.
+#[derive(Clone, Debug)]
+enum DefState {
+    Pending,
+    Active,
+    Done(Value),
+    Failed,
+}
+
+/// A top-level `let` or `param`.
+struct Def {
+    kind: DefKind,
+    name: Ident,
+    value: Expr,
+    state: DefState,
+    used: bool,
+}
+
+/// The evaluator's state for one scene.
+pub(crate) struct Evaluator {
+    options: Options,
+    sources: SourceMap,
+    scene: Scene,
+    diagnostics: Vec<Diagnostic>,
+    defs: Vec<Def>,
+    def_index: HashMap<String, usize>,
+    /// Loop variables in scope, innermost last.
+    locals: Vec<(String, f64)>,
+    /// Definitions being evaluated (for cycles and depth).
+    def_stack: Vec<usize>,
+    /// Checking unused definitions: nothing is loaded from disk.
+    dry: bool,
+    /// Inside a medium's boundary: no material needed.
+    in_boundary: usize,
+    caches: Caches,
+    /// How often each object definition is placed (a placement inside a
+    /// loop counts as many).
+    place_counts: HashMap<String, usize>,
+    default_material: Option<MaterialId>,
+    render_seen: Option<Span>,
+    camera_seen: Option<Span>,
+    size_span: Option<Span>,
+    samples_span: Option<Span>,
+}
+
+/// Everything loaded or built once and shared.
+#[derive(Clone, Default)]
+struct Caches {
+    images: HashMap<PathBuf, TextureId>,
+    meshes: HashMap<PathBuf, (MeshId, Vec<MaterialId>)>,
+    protos: HashMap<usize, ProtoId>,
+}
+
+/// Parses and evaluates the scene at `path`.
+pub fn evaluate(path: &Path, options: &Options) -> Outcome {
+    let mut ev = Evaluator {
+        options: options.clone(),
+        sources: SourceMap::default(),
+        scene: Scene::default(),
+        diagnostics: Vec::new(),
+        defs: Vec::new(),
+        def_index: HashMap::new(),
+        locals: Vec::new(),
+        def_stack: Vec::new(),
+        dry: false,
+        in_boundary: 0,
+        caches: Caches::default(),
+        place_counts: HashMap::new(),
+        default_material: None,
+        render_seen: None,
+        camera_seen: None,
+        size_span: None,
+        samples_span: None,
+    };
+    let items = ev.load_all(path);
+    ev.run(&items);
+    let failed = ev.diagnostics.iter().any(Diagnostic::is_error);
+    Outcome {
+        scene: (!failed).then_some(ev.scene),
+        diagnostics: ev.diagnostics,
+        sources: ev.sources,
+    }
+}
+
+impl Evaluator {
+    /// Records a diagnostic; returns the failure marker for errors.
+    fn report(&mut self, d: Diagnostic) -> Fail {
+        self.diagnostics.push(d);
+        Fail
+    }
+
+    /// Turns a span-less helper result into a located one.
+    fn at<T>(&mut self, span: Span, r: Result<T, issue::Issue>) -> Eval<T> {
+        r.map_err(|issue| self.report(issue.at(span)))
+    }
+
+    /// Evaluates every top-level item in order.
+    fn run(&mut self, items: &[Item]) {
+        self.register_defs(items);
+        self.apply_defines();
+        self.count_places(items);
+        for item in items {
+            match item {
+                Item::Render { body, span } => {
+                    if let Some(first) = self.render_seen.replace(*span) {
+                        self.duplicate_block("render", *span, first);
+                    } else {
+                        self.render(body);
+                    }
+                }
+                Item::Camera { body, span } => {
+                    if let Some(first) = self.camera_seen.replace(*span) {
+                        self.duplicate_block("camera", *span, first);
+                    } else {
+                        self.camera(body);
+                    }
+                }
+                Item::Stmt(stmt) => {
+                    if let Ok(Some(node)) = self.top_stmt(stmt) {
+                        self.scene.objects.push(node);
+                    }
+                }
+                Item::Let { .. } | Item::Param { .. } | Item::Include { .. } => {}
+            }
+        }
+        self.finish_settings();
+        self.check_unused();
+    }
+
+    fn duplicate_block(&mut self, what: &str, span: Span, first: Span) {
+        self.report(
+            Diagnostic::error(
+                "rtlang::duplicate",
+                span,
+                format!("a second `{what}` block"),
+            )
+            .label("second one here")
+            .related(first, "first one here")
+            .help(format!("merge the two `{what}` blocks into one")),
+        );
+    }
+
+    /// The directory relative paths in `span`'s file resolve against.
+    fn base_dir(&self, span: Span) -> PathBuf {
+        self.sources
+            .file(span.file)
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+    }
+}

@@ -1,0 +1,319 @@
+//! Motion blocks: transforms whose arguments are expressions of `t`,
+//! evaluated symbolically (constants fold, names resolve to their values)
+//! and compiled to [`Program`](crate::scene::motion::Program)s once.
+
+use super::math;
+use super::props::Allow;
+use super::value::Value;
+use super::{Eval, Evaluator, Fail};
+use crate::lang::ast::{Arg, BinOp, Expr, ExprKind, Stmt, TransformKind};
+use crate::lang::diagnostics::Diagnostic;
+use crate::lang::expr::Sym;
+use crate::lang::source::Span;
+use crate::scene::motion::{MotionStep, Program};
+
+/// A symbolic value: a scalar or a vector of scalars.
+enum SymVal {
+    Scalar(Sym),
+    Vector(Vec<Sym>),
+}
+
+impl Evaluator {
+    /// The steps of a `motion { ... }` body.
+    pub(super) fn motion_steps(&mut self, body: &[Stmt]) -> Eval<Vec<MotionStep>> {
+        let allow = Allow {
+            what: "motion",
+            props: &[],
+            transforms: true,
+            children: false,
+            size: false,
+            shutter: false,
+        };
+        let block = self.block(body, &allow);
+        let mut steps = Vec::new();
+        let mut failed = false;
+        for stmt in &block.transforms {
+            let Stmt::Transform(t) = stmt else {
+                let Stmt::Motion { span, .. } = stmt else {
+                    continue;
+                };
+                self.report(
+                    Diagnostic::error(
+                        "rtlang::misplaced",
+                        *span,
+                        "a motion block inside a motion block",
+                    )
+                    .label("nested motion")
+                    .help("put all time-dependent transforms in one `motion` block"),
+                );
+                failed = true;
+                continue;
+            };
+            match self.motion_step(&t.kind) {
+                Ok(step) => steps.push(step),
+                Err(_) => failed = true,
+            }
+        }
+        if failed {
+            Err(Fail)
+        } else {
+            Ok(steps)
+        }
+    }
+
+    fn motion_step(&mut self, kind: &TransformKind) -> Eval<MotionStep> {
+        Ok(match kind {
+            TransformKind::Translate(e) => MotionStep::Translate(self.sym_vec3(e)?),
+            TransformKind::RotateAxis(axis, e) => MotionStep::Rotate {
+                axis: super::transforms::axis_vector(*axis).as_vec3(),
+                degrees: self.sym_scalar(e)?.compile(),
+            },
+            TransformKind::Rotate(axis, e) => {
+                let a = self.expr(axis).and_then(|v| self.vec3(&v, axis.span));
+                let degrees = self.sym_scalar(e);
+                let a = self.unit(a?, axis.span, "the rotation axis")?;
+                MotionStep::Rotate {
+                    axis: a.as_vec3(),
+                    degrees: degrees?.compile(),
+                }
+            }
+            TransformKind::Scale(e) => match self.sym(e)? {
+                SymVal::Scalar(s) => {
+                    let p = s.compile();
+                    MotionStep::Scale([p.clone(), p.clone(), p])
+                }
+                SymVal::Vector(v) if v.len() == 3 => MotionStep::Scale(programs3(v)),
+                SymVal::Vector(_) => return Err(self.sym_type(e.span, "a number or a 3-vector")),
+            },
+            TransformKind::Matrix(e) => {
+                let ExprKind::List(items) = &e.kind else {
+                    return Err(self.sym_type(e.span, "a list of 16 expressions"));
+                };
+                if items.len() != 16 {
+                    return Err(self.sym_type(e.span, "a list of 16 expressions"));
+                }
+                let mut programs = Vec::with_capacity(16);
+                for item in items {
+                    programs.push(self.sym_scalar(item)?.compile());
+                }
+                let array: [Program; 16] = programs.try_into().map_err(|_| Fail)?;
+                MotionStep::Matrix(Box::new(array))
+            }
+        })
+    }
+
+    fn sym_type(&mut self, span: Span, want: &str) -> Fail {
+        self.report(
+            Diagnostic::error("rtlang::type", span, format!("expected {want} here"))
+                .label("wrong type")
+                .help("motion transforms take the same arguments as static ones, as expressions of `t`"),
+        )
+    }
+
+    fn sym_scalar(&mut self, e: &Expr) -> Eval<Sym> {
+        match self.sym(e)? {
+            SymVal::Scalar(s) => Ok(s),
+            SymVal::Vector(_) => Err(self.sym_type(e.span, "a number")),
+        }
+    }
+
+    fn sym_vec3(&mut self, e: &Expr) -> Eval<[Program; 3]> {
+        match self.sym(e)? {
+            SymVal::Vector(v) if v.len() == 3 => Ok(programs3(v)),
+            _ => Err(self.sym_type(e.span, "a 3-vector `(x, y, z)`")),
+        }
+    }
+
+    /// The symbolic value of `e`.
+    fn sym(&mut self, e: &Expr) -> Eval<SymVal> {
+        match &e.kind {
+            ExprKind::Number(v) => Ok(SymVal::Scalar(Sym::Const(*v))),
+            ExprKind::Name(n) if n == "t" && !self.locals.iter().any(|(l, _)| l == "t") => {
+                Ok(SymVal::Scalar(Sym::Time))
+            }
+            ExprKind::Tuple(items) if items.len() == 1 => self.sym(&items[0]),
+            ExprKind::Tuple(items) => {
+                let mut out = Vec::with_capacity(items.len());
+                for item in items {
+                    out.push(self.sym_scalar(item)?);
+                }
+                Ok(SymVal::Vector(out))
+            }
+            ExprKind::Neg(x) => Ok(match self.sym(x)? {
+                SymVal::Scalar(s) => SymVal::Scalar(neg(s)),
+                SymVal::Vector(v) => SymVal::Vector(v.into_iter().map(neg).collect()),
+            }),
+            ExprKind::Binary(op, a, b) => {
+                let (va, vb) = (self.sym(a), self.sym(b));
+                self.sym_binary(*op, va?, vb?, e.span, b.span)
+            }
+            ExprKind::Call { callee, args } => self.sym_call(&callee.name, callee, args, e.span),
+            _ => match self.expr(e)? {
+                Value::Num(x) => Ok(SymVal::Scalar(Sym::Const(x))),
+                Value::Vec3(v) => Ok(SymVal::Vector(v.to_array().map(Sym::Const).to_vec())),
+                Value::Vec2(v) => Ok(SymVal::Vector(v.to_array().map(Sym::Const).to_vec())),
+                other => Err(self.sym_type(
+                    e.span,
+                    &format!("a number or a vector, not {}", other.type_name()),
+                )),
+            },
+        }
+    }
+
+    fn sym_binary(
+        &mut self,
+        op: BinOp,
+        a: SymVal,
+        b: SymVal,
+        span: Span,
+        rhs: Span,
+    ) -> Eval<SymVal> {
+        use SymVal::*;
+        let scalar = |ev: &mut Evaluator, x: Sym, y: Sym| -> Eval<Sym> {
+            if op == BinOp::Div && y.constant() == Some(0.0) {
+                return Err(ev.report(
+                    Diagnostic::error("rtlang::division-by-zero", rhs, "division by zero")
+                        .label("this is zero")
+                        .help("the divisor must not be 0"),
+                ));
+            }
+            Ok(fold2(op, x, y))
+        };
+        match (op, a, b) {
+            (_, Scalar(x), Scalar(y)) => Ok(Scalar(scalar(self, x, y)?)),
+            (BinOp::Add | BinOp::Sub, Vector(x), Vector(y)) if x.len() == y.len() => {
+                let out: Eval<Vec<Sym>> = x
+                    .into_iter()
+                    .zip(y)
+                    .map(|(p, q)| scalar(self, p, q))
+                    .collect();
+                Ok(Vector(out?))
+            }
+            (BinOp::Mul | BinOp::Div, Vector(v), Scalar(s)) => {
+                let out: Eval<Vec<Sym>> =
+                    v.into_iter().map(|p| scalar(self, p, s.clone())).collect();
+                Ok(Vector(out?))
+            }
+            (BinOp::Mul, Scalar(s), Vector(v)) => Ok(Vector(
+                v.into_iter()
+                    .map(|p| fold2(BinOp::Mul, s.clone(), p))
+                    .collect(),
+            )),
+            _ => Err(self.report(
+                Diagnostic::error(
+                    "rtlang::type",
+                    span,
+                    "these operands do not fit this operator",
+                )
+                .label("wrong types")
+                .help("arithmetic works on numbers, and on vectors with vectors or numbers"),
+            )),
+        }
+    }
+
+    fn sym_call(
+        &mut self,
+        name: &str,
+        callee: &crate::lang::ast::Ident,
+        args: &[Arg],
+        span: Span,
+    ) -> Eval<SymVal> {
+        self.check_call(callee, args, span)?;
+        let positional: Vec<&Expr> = args
+            .iter()
+            .filter(|a| a.name.is_none())
+            .map(|a| &a.value)
+            .collect();
+        let scalars = |ev: &mut Evaluator| -> Eval<Vec<Sym>> {
+            let results: Vec<Eval<Sym>> = positional.iter().map(|e| ev.sym_scalar(e)).collect();
+            results.into_iter().collect()
+        };
+        if let Some(f) = math::fn1(name) {
+            let x = scalars(self)?.remove(0);
+            return match x.constant() {
+                Some(c) => {
+                    let r = math::apply1(f, c).and_then(super::value::finite);
+                    self.at(span, r).map(|v| SymVal::Scalar(Sym::Const(v)))
+                }
+                None => Ok(SymVal::Scalar(Sym::Call1(f, Box::new(x)))),
+            };
+        }
+        if let Some(f) = math::fn2(name) {
+            let mut x = scalars(self)?;
+            let (b, a) = (x.remove(1), x.remove(0));
+            return Ok(SymVal::Scalar(match (a.constant(), b.constant()) {
+                (Some(p), Some(q)) => Sym::Const(math::apply2(f, p, q)),
+                _ => Sym::Call2(f, Box::new(a), Box::new(b)),
+            }));
+        }
+        if let Some(f) = math::fn3(name) {
+            let mut x = scalars(self)?;
+            let (c, b, a) = (x.remove(2), x.remove(1), x.remove(0));
+            return Ok(SymVal::Scalar(
+                match (a.constant(), b.constant(), c.constant()) {
+                    (Some(p), Some(q), Some(r)) => Sym::Const(math::apply3(f, p, q, r)),
+                    _ => Sym::Call3(f, Box::new(a), Box::new(b), Box::new(c)),
+                },
+            ));
+        }
+        if name == "keyframes" {
+            let x = self.sym_scalar(positional[0]);
+            let table = self
+                .expr(positional[1])
+                .and_then(|v| self.keys(&v, positional[1].span));
+            let smooth = match args.iter().find(|a| a.name.is_some()) {
+                Some(a) => self
+                    .expr(&a.value)
+                    .and_then(|v| self.boolean(&v, a.value.span)),
+                None => Ok(false),
+            };
+            let (x, keys, smooth) = (x?, table?, smooth?);
+            return Ok(SymVal::Scalar(match x.constant() {
+                Some(c) => Sym::Const(math::keyframes(&keys, c, smooth)),
+                None => Sym::Keyframes {
+                    x: Box::new(x),
+                    keys,
+                    smooth,
+                },
+            }));
+        }
+        match self.call(callee, args, span)? {
+            Value::Num(x) => Ok(SymVal::Scalar(Sym::Const(x))),
+            Value::Vec3(v) => Ok(SymVal::Vector(v.to_array().map(Sym::Const).to_vec())),
+            other => Err(self.sym_type(
+                span,
+                &format!("a number or a vector, not {}", other.type_name()),
+            )),
+        }
+    }
+}
+
+fn neg(s: Sym) -> Sym {
+    match s {
+        Sym::Const(c) => Sym::Const(-c),
+        s => Sym::Neg(Box::new(s)),
+    }
+}
+
+/// `x op y`, folded when both are constant.
+fn fold2(op: BinOp, x: Sym, y: Sym) -> Sym {
+    if let (Some(a), Some(b)) = (x.constant(), y.constant()) {
+        if let Ok(v) = super::value::scalar(op, a, b) {
+            return Sym::Const(v);
+        }
+    }
+    let (x, y) = (Box::new(x), Box::new(y));
+    match op {
+        BinOp::Add => Sym::Add(x, y),
+        BinOp::Sub => Sym::Sub(x, y),
+        BinOp::Mul => Sym::Mul(x, y),
+        BinOp::Div => Sym::Div(x, y),
+        BinOp::Pow => Sym::Call2(crate::scene::motion::Fn2::Pow, x, y),
+    }
+}
+
+fn programs3(v: Vec<Sym>) -> [Program; 3] {
+    let mut it = v.into_iter().map(|s| s.compile());
+    let mut next = || it.next().unwrap_or_default();
+    [next(), next(), next()]
+}

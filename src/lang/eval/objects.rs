@@ -1,0 +1,552 @@
+//! Object blocks → scene nodes: shapes with their checks, meshes,
+//! surfaces of revolution, media, groups, loops and placements of defined
+//! objects (as shared prototypes when placed more than once).
+
+use glam::{DVec2, DVec3};
+
+use super::props::{Allow, Block};
+use super::value::Value;
+use super::{Eval, Evaluator, Fail};
+use crate::lang::ast::{Object, ObjectKind, RectPlane, Stmt};
+use crate::lang::diagnostics::Diagnostic;
+use crate::lang::source::Span;
+use crate::scene::object::{RectPlane as Plane, RevolutionMode};
+use crate::scene::{MaterialId, Node, Shape};
+
+/// The most loop iterations one `repeat` may run.
+const MAX_ITERATIONS: f64 = 10_000_000.0;
+
+const fn allow(what: &'static str, props: &'static [&'static str], children: bool) -> Allow {
+    Allow {
+        what,
+        props,
+        transforms: true,
+        children,
+        size: false,
+        shutter: false,
+    }
+}
+
+impl Evaluator {
+    /// A top-level statement: the node it adds to the world, if any.
+    pub(super) fn top_stmt(&mut self, stmt: &Stmt) -> Eval<Option<Node>> {
+        match stmt {
+            Stmt::Object(o) => self.object(o).map(Some),
+            Stmt::Place { name, body, .. } => self.place(name, body).map(Some),
+            other => {
+                let span = match other {
+                    Stmt::Property { span, .. }
+                    | Stmt::Size { span, .. }
+                    | Stmt::Shutter { span, .. } => *span,
+                    Stmt::Motion { span, .. } => *span,
+                    Stmt::Transform(t) => t.span,
+                    Stmt::Object(_) | Stmt::Place { .. } => unreachable!("handled above"),
+                };
+                Err(self.report(
+                    Diagnostic::error("rtlang::misplaced", span, "this belongs inside a block")
+                        .label("not allowed at top level")
+                        .help("properties and transforms go inside an object, `render` or `camera` block"),
+                ))
+            }
+        }
+    }
+
+    /// The node of an object block, transforms applied.
+    pub(super) fn object(&mut self, o: &Object) -> Eval<Node> {
+        let (node, block) = match &o.kind {
+            ObjectKind::Sphere => {
+                let b = self.block(
+                    &o.body,
+                    &allow("sphere", &["center", "radius", "material"], false),
+                );
+                (self.sphere(&b, o), b)
+            }
+            ObjectKind::Plane => {
+                let b = self.block(
+                    &o.body,
+                    &allow("plane", &["point", "offset", "normal", "material"], false),
+                );
+                (self.plane(&b, o), b)
+            }
+            ObjectKind::Rect(plane) => {
+                let b = self.block(
+                    &o.body,
+                    &allow("rect", &["from", "to", "at", "material"], false),
+                );
+                (self.rect(&b, *plane, o), b)
+            }
+            ObjectKind::Box => {
+                let b = self.block(&o.body, &allow("box", &["min", "max", "material"], false));
+                (self.cuboid(&b, o), b)
+            }
+            ObjectKind::Triangle => {
+                let b = self.block(
+                    &o.body,
+                    &allow("triangle", &["a", "b", "c", "material"], false),
+                );
+                (self.triangle(&b, o), b)
+            }
+            ObjectKind::Mesh(path) => {
+                let b = self.block(&o.body, &allow("mesh", &["material"], false));
+                (self.mesh_node(&b, path), b)
+            }
+            ObjectKind::Revolve(curve) => {
+                let props = &["material", "mode", "resolution", "tolerance"];
+                let b = self.block(&o.body, &allow("revolve", props, false));
+                (self.revolve(&b, curve, o), b)
+            }
+            ObjectKind::Medium => {
+                let b = self.block(
+                    &o.body,
+                    &allow("medium", &["boundary", "density", "color"], false),
+                );
+                (self.medium(&b, o), b)
+            }
+            ObjectKind::Group => {
+                let b = self.block(&o.body, &allow("group", &[], true));
+                (self.children(&b.children).map(Node::Group), b)
+            }
+            ObjectKind::Repeat { var, from, to } => return self.repeat(var, from, to, o),
+        };
+        let transformed = self.apply_transforms(&block.transforms);
+        Ok(transformed?.wrap(node?))
+    }
+
+    /// The nodes of child statements, all evaluated even when some fail.
+    fn children(&mut self, stmts: &[&Stmt]) -> Eval<Vec<Node>> {
+        let mut nodes = Vec::with_capacity(stmts.len());
+        let mut failed = false;
+        for stmt in stmts {
+            match self.top_stmt(stmt) {
+                Ok(Some(node)) => nodes.push(node),
+                Ok(None) => {}
+                Err(_) => failed = true,
+            }
+        }
+        if failed {
+            Err(Fail)
+        } else {
+            Ok(nodes)
+        }
+    }
+
+    /// The material of a shape: required except inside a medium's boundary.
+    fn shape_material(&mut self, b: &Block, o: &Object) -> Eval<MaterialId> {
+        match self.prop(b, "material")? {
+            Some((v, s)) => self.material(&v, s),
+            None if self.in_boundary > 0 => Ok(self.default_material()),
+            None => Err(self.missing(
+                o,
+                "material",
+                "add e.g. `material lambertian(rgb(0.5, 0.5, 0.5))`",
+            )),
+        }
+    }
+
+    fn missing(&mut self, o: &Object, name: &str, help: &str) -> Fail {
+        self.report(
+            Diagnostic::error(
+                "rtlang::missing-property",
+                o.head,
+                format!("this object needs a `{name}`"),
+            )
+            .label(format!("no `{name}`"))
+            .help(help.to_string()),
+        )
+    }
+
+    fn shape(&mut self, shape: Eval<Shape>, material: Eval<MaterialId>) -> Eval<Node> {
+        let (shape, material) = (shape?, material?);
+        Ok(Node::Shape { shape, material })
+    }
+
+    fn sphere(&mut self, b: &Block, o: &Object) -> Eval<Node> {
+        let center = self.prop_vec3(b, "center", DVec3::ZERO);
+        let radius = self.prop_num(b, "radius", 1.0).and_then(|(r, s)| {
+            self.range(
+                r > 0.0,
+                s,
+                format!("the radius must be positive, not {r}"),
+                "a sphere's radius is its size in scene units",
+            )?;
+            Ok(r)
+        });
+        let material = self.shape_material(b, o);
+        let shape = center.and_then(|(c, _)| {
+            Ok(Shape::Sphere {
+                center: c.as_vec3(),
+                radius: radius? as f32,
+            })
+        });
+        self.shape(shape, material)
+    }
+
+    fn plane(&mut self, b: &Block, o: &Object) -> Eval<Node> {
+        let normal = self
+            .prop_vec3(b, "normal", DVec3::Y)
+            .and_then(|(n, s)| self.unit(n, s, "the normal"));
+        let point = self.prop(b, "point");
+        let offset = self.prop(b, "offset");
+        let material = self.shape_material(b, o);
+        let (normal, point, offset) = (normal?, point?, offset?);
+        let point = match (point, offset) {
+            (Some(_), Some((_, s))) => {
+                return Err(self.report(
+                    Diagnostic::error(
+                        "rtlang::conflict",
+                        s,
+                        "a plane takes `point` or `offset`, not both",
+                    )
+                    .label("second way to place the plane")
+                    .help("keep one: `point (x, y, z)` or `offset d` along the normal"),
+                ))
+            }
+            (Some((v, s)), None) => self.vec3(&v, s)?,
+            (None, Some((v, s))) => normal * self.num(&v, s)?,
+            (None, None) => DVec3::ZERO,
+        };
+        let shape = Ok(Shape::Plane {
+            point: point.as_vec3(),
+            normal: normal.as_vec3(),
+        });
+        self.shape(shape, material)
+    }
+
+    /// `v` normalised; zero-length vectors are errors.
+    pub(super) fn unit(&mut self, v: DVec3, span: Span, what: &str) -> Eval<DVec3> {
+        let len = v.length();
+        self.range(
+            len > 1e-12 && len.is_finite(),
+            span,
+            format!("{what} has zero length"),
+            "give a direction, such as (0, 1, 0)",
+        )?;
+        Ok(v / len)
+    }
+
+    fn rect(&mut self, b: &Block, plane: RectPlane, o: &Object) -> Eval<Node> {
+        let from = self.prop_vec2(b, "from", DVec2::ZERO);
+        let to = self.prop_vec2(b, "to", DVec2::ONE);
+        let at = self.prop_num(b, "at", 0.0);
+        let material = self.shape_material(b, o);
+        let ((from, _), (to, ts), (at, _)) = (from?, to?, at?);
+        let (lo, hi) = (from.min(to), from.max(to));
+        self.range(
+            (hi - lo).min_element() > 0.0,
+            if ts.is_empty() { o.head } else { ts },
+            "the rectangle has zero area".to_string(),
+            "`from` and `to` are opposite corners and must differ in both coordinates",
+        )?;
+        let shape = Ok(Shape::Rect {
+            plane: match plane {
+                RectPlane::Xy => Plane::Xy,
+                RectPlane::Xz => Plane::Xz,
+                RectPlane::Yz => Plane::Yz,
+            },
+            a: (lo.x as f32, hi.x as f32),
+            b: (lo.y as f32, hi.y as f32),
+            k: at as f32,
+        });
+        self.shape(shape, material)
+    }
+
+    fn cuboid(&mut self, b: &Block, o: &Object) -> Eval<Node> {
+        let min = self.prop_vec3(b, "min", DVec3::ZERO);
+        let max = self.prop_vec3(b, "max", DVec3::ONE);
+        let material = self.shape_material(b, o);
+        let ((min, _), (max, ms)) = (min?, max?);
+        self.range(
+            (max - min).min_element() > 0.0,
+            if ms.is_empty() { o.head } else { ms },
+            format!(
+                "`max` ({}, {}, {}) must exceed `min` ({}, {}, {}) in every coordinate",
+                max.x, max.y, max.z, min.x, min.y, min.z
+            ),
+            "a box spans from its `min` corner to its `max` corner",
+        )?;
+        let shape = Ok(Shape::Cuboid {
+            min: min.as_vec3(),
+            max: max.as_vec3(),
+        });
+        self.shape(shape, material)
+    }
+
+    fn triangle(&mut self, b: &Block, o: &Object) -> Eval<Node> {
+        let a = self.prop_vec3(b, "a", DVec3::ZERO);
+        let bb = self.prop_vec3(b, "b", DVec3::X);
+        let c = self.prop_vec3(b, "c", DVec3::Y);
+        let material = self.shape_material(b, o);
+        let ((a, _), (bv, _), (c, _)) = (a?, bb?, c?);
+        let area2 = (bv - a).cross(c - a).length();
+        let scale = (bv - a).length().max((c - a).length()).max(1e-300);
+        self.range(
+            area2 > 1e-12 * scale * scale,
+            o.span,
+            "the triangle is degenerate (zero area)".to_string(),
+            "its three corners must not lie on one line",
+        )?;
+        let shape = Ok(Shape::Triangle {
+            vertices: [a.as_vec3(), bv.as_vec3(), c.as_vec3()],
+        });
+        self.shape(shape, material)
+    }
+
+    fn mesh_node(&mut self, b: &Block, path: &crate::lang::ast::Expr) -> Eval<Node> {
+        let file = self.expr(path).and_then(|v| self.string(&v, path.span));
+        let material = match self.prop(b, "material") {
+            Ok(Some((v, s))) => self.material(&v, s).map(Some),
+            Ok(None) => Ok(None),
+            Err(f) => Err(f),
+        };
+        let (file, material) = (file?, material?);
+        let (mesh, slots) = self.mesh(&file, path.span)?;
+        let materials = match material {
+            Some(m) => vec![m; slots.len().max(1)],
+            None => slots,
+        };
+        Ok(Node::Mesh { mesh, materials })
+    }
+
+    fn revolve(&mut self, b: &Block, curve: &crate::lang::ast::Expr, o: &Object) -> Eval<Node> {
+        let curve = match self.expr(curve) {
+            Ok(Value::Curve(c)) => Ok(c),
+            Ok(other) => Err(self.report(
+                Diagnostic::error(
+                    "rtlang::type",
+                    curve.span,
+                    format!("expected a curve, found {}", other.type_name()),
+                )
+                .label("not a curve")
+                .help("define the profile with `bezier [(r, h), ...]`"),
+            )),
+            Err(f) => Err(f),
+        };
+        let material = self.shape_material(b, o);
+        let analytic = self.mode(b);
+        let resolution = self.prop_count(b, "resolution", 50).and_then(|(r, s)| {
+            self.range(
+                r >= 3 && r <= 100_000,
+                s,
+                format!("the resolution must be in 3..=100000, not {r}"),
+                "the resolution is the number of segments along the curve and around the axis",
+            )?;
+            Ok(r)
+        });
+        let tolerance = self.prop_num(b, "tolerance", 1e-4).and_then(|(t, s)| {
+            self.range(
+                t > 0.0,
+                s,
+                format!("the tolerance must be positive, not {t}"),
+                "the Newton tolerance is in scene units, e.g. 1e-4",
+            )?;
+            Ok(t)
+        });
+        let (curve, material, analytic, resolution, tolerance) =
+            (curve?, material?, analytic?, resolution?, tolerance?);
+        let mode = if analytic {
+            RevolutionMode::Analytic {
+                resolution,
+                tolerance: tolerance as f32,
+            }
+        } else {
+            RevolutionMode::Mesh { resolution }
+        };
+        Ok(Node::Shape {
+            shape: Shape::Revolution {
+                curve: (*curve).clone(),
+                mode,
+            },
+            material,
+        })
+    }
+
+    /// `mode mesh | analytic` (or a string with either word); default analytic.
+    fn mode(&mut self, b: &Block) -> Eval<bool> {
+        let Some(e) = b.get("mode") else {
+            return Ok(true);
+        };
+        let word = match &e.kind {
+            crate::lang::ast::ExprKind::Name(n) if n == "mesh" || n == "analytic" => n.clone(),
+            _ => {
+                let v = self.expr(e)?;
+                self.string(&v, e.span)?
+            }
+        };
+        match word.as_str() {
+            "mesh" => Ok(false),
+            "analytic" => Ok(true),
+            _ => Err(self.report(
+                Diagnostic::error(
+                    "rtlang::unknown-name",
+                    e.span,
+                    format!("unknown mode `{word}`"),
+                )
+                .label("not a mode")
+                .help("the mode is `mesh` or `analytic`"),
+            )),
+        }
+    }
+
+    fn medium(&mut self, b: &Block, o: &Object) -> Eval<Node> {
+        self.in_boundary += 1;
+        let boundary = match self.prop(b, "boundary") {
+            Ok(Some((Value::Object(node), _))) => Ok((*node).clone()),
+            Ok(Some((other, s))) => Err(self.report(
+                Diagnostic::error(
+                    "rtlang::type",
+                    s,
+                    format!("expected an object, found {}", other.type_name()),
+                )
+                .label("not an object")
+                .help("the boundary is a closed object, e.g. `boundary sphere { radius 1 }`"),
+            )),
+            Ok(None) => Err(self.missing(
+                o,
+                "boundary",
+                "add e.g. `boundary box { min (0, 0, 0) max (1, 1, 1) }`",
+            )),
+            Err(f) => Err(f),
+        };
+        self.in_boundary -= 1;
+        let density = self.prop_num(b, "density", 1.0).and_then(|(d, s)| {
+            self.range(
+                d > 0.0,
+                s,
+                format!("the density must be positive, not {d}"),
+                "the density is the chance of scattering per unit length",
+            )?;
+            Ok(d)
+        });
+        let color = match self.prop(b, "color") {
+            Ok(Some((v, s))) => self.texture(&v, s),
+            Ok(None) => self.texture(&Value::Vec3(DVec3::ONE), o.head),
+            Err(f) => Err(f),
+        };
+        let (boundary, density, color) = (boundary?, density?, color?);
+        let material = self
+            .scene
+            .add_material(crate::scene::Material::Isotropic { albedo: color });
+        Ok(Node::Medium {
+            boundary: Box::new(boundary),
+            density: density as f32,
+            material,
+        })
+    }
+
+    /// `repeat VAR in FROM..TO { ... }`: the body once per whole number in
+    /// `FROM..TO` (end excluded), all in one group.
+    fn repeat(
+        &mut self,
+        var: &crate::lang::ast::Ident,
+        from: &crate::lang::ast::Expr,
+        to: &crate::lang::ast::Expr,
+        o: &Object,
+    ) -> Eval<Node> {
+        let ok_name = self.check_new_name(&var.name, var.span);
+        let lo = self.expr(from).and_then(|v| self.num(&v, from.span));
+        let hi = self.expr(to).and_then(|v| self.num(&v, to.span));
+        let (lo, hi) = (lo?, hi?);
+        if !ok_name {
+            return Err(Fail);
+        }
+        self.range(
+            lo.fract() == 0.0 && hi.fract() == 0.0,
+            from.span.to(to.span),
+            format!("loop bounds must be whole numbers, not {lo}..{hi}"),
+            "write whole numbers, e.g. `0..10`",
+        )?;
+        self.range(
+            hi - lo <= MAX_ITERATIONS,
+            from.span.to(to.span),
+            format!(
+                "the loop would run {} times, more than {MAX_ITERATIONS}",
+                hi - lo
+            ),
+            "use a mesh for very many primitives",
+        )?;
+        let allow = Allow {
+            what: "repeat",
+            props: &[],
+            transforms: true,
+            children: true,
+            size: false,
+            shutter: false,
+        };
+        let block = self.block(&o.body, &allow);
+        let mut nodes = Vec::new();
+        let mut i = lo;
+        let mut failed = false;
+        while i < hi {
+            self.locals.push((var.name.clone(), i));
+            let children = self.children(&block.children);
+            let transforms = self.apply_transforms(&block.transforms);
+            self.locals.pop();
+            match (children, transforms) {
+                (Ok(children), Ok(t)) if t.is_identity() => nodes.extend(children),
+                (Ok(children), Ok(t)) => nodes.push(t.wrap(group_of(children))),
+                _ => {
+                    failed = true;
+                    break;
+                }
+            }
+            i += 1.0;
+        }
+        if failed {
+            return Err(Fail);
+        }
+        Ok(Node::Group(nodes))
+    }
+
+    /// `place NAME { transforms }`: the defined object, shared as a
+    /// prototype when placed more than once.
+    pub(super) fn place(&mut self, name: &crate::lang::ast::Ident, body: &[Stmt]) -> Eval<Node> {
+        let allow = Allow {
+            what: "place",
+            props: &[],
+            transforms: true,
+            children: false,
+            size: false,
+            shutter: false,
+        };
+        let block = self.block(body, &allow);
+        let transforms = self.apply_transforms(&block.transforms);
+        let value = self.lookup(&name.name, name.span)?;
+        let Value::Object(node) = value else {
+            return Err(self.report(
+                Diagnostic::error(
+                    "rtlang::type",
+                    name.span,
+                    format!("`{}` is {}, not an object", name.name, value.type_name()),
+                )
+                .label("cannot be placed")
+                .help("`place` takes a name defined as an object, e.g. `let x = sphere { ... }`"),
+            ));
+        };
+        let index = self.def_index.get(&name.name).copied();
+        let many = self.place_counts.get(&name.name).copied().unwrap_or(0) > 1;
+        let placed = match index {
+            Some(index) if many => {
+                let id = match self.caches.protos.get(&index) {
+                    Some(id) => *id,
+                    None => {
+                        let id = self.scene.add_prototype((*node).clone());
+                        self.caches.protos.insert(index, id);
+                        id
+                    }
+                };
+                Node::Instance(id)
+            }
+            _ => (*node).clone(),
+        };
+        Ok(transforms?.wrap(placed))
+    }
+}
+
+/// One node for several: the node itself when there is one.
+fn group_of(mut nodes: Vec<Node>) -> Node {
+    if nodes.len() == 1 {
+        nodes.pop().unwrap_or(Node::Group(Vec::new()))
+    } else {
+        Node::Group(nodes)
+    }
+}

@@ -1,0 +1,213 @@
+//! The statements of one block sorted by role: named properties (checked
+//! against the names the block accepts, like pbrt's unused-parameter
+//! check), transforms in order, child objects, and the `size` / `shutter`
+//! forms, with typed property getters.
+
+use glam::{DVec2, DVec3};
+
+use super::value::Value;
+use super::{Eval, Evaluator};
+use crate::lang::ast::{Expr, Ident, Stmt};
+use crate::lang::diagnostics::Diagnostic;
+use crate::lang::names;
+use crate::lang::source::Span;
+
+/// What a block may contain.
+pub(super) struct Allow {
+    pub what: &'static str,
+    pub props: &'static [&'static str],
+    pub transforms: bool,
+    pub children: bool,
+    pub size: bool,
+    pub shutter: bool,
+}
+
+/// A block's statements sorted by role.
+#[derive(Default)]
+pub(super) struct Block<'a> {
+    props: Vec<(&'a Ident, &'a Expr)>,
+    /// Transform and motion statements, in the order written.
+    pub transforms: Vec<&'a Stmt>,
+    /// Objects and placements.
+    pub children: Vec<&'a Stmt>,
+    pub size: Option<(&'a Expr, &'a Expr)>,
+    pub shutter: Option<(&'a Expr, &'a Expr)>,
+}
+
+impl Block<'_> {
+    /// The expression of property `name`, if present.
+    pub fn get(&self, name: &str) -> Option<&Expr> {
+        self.props
+            .iter()
+            .find(|(n, _)| n.name == name)
+            .map(|(_, e)| *e)
+    }
+}
+
+impl Evaluator {
+    /// Sorts `body`, reporting unknown, duplicate and misplaced statements.
+    pub(super) fn block<'a>(&mut self, body: &'a [Stmt], allow: &Allow) -> Block<'a> {
+        let mut block = Block::default();
+        for stmt in body {
+            match stmt {
+                Stmt::Property { name, value, .. } => {
+                    if !allow.props.contains(&name.name.as_str()) {
+                        self.unknown_property(name, allow);
+                    } else if let Some((first, _)) =
+                        block.props.iter().find(|(n, _)| n.name == name.name)
+                    {
+                        let first = first.span;
+                        self.report(
+                            Diagnostic::error(
+                                "rtlang::duplicate",
+                                name.span,
+                                format!("`{}` is given twice", name.name),
+                            )
+                            .label("second time")
+                            .related(first, "first time")
+                            .help("give each property once"),
+                        );
+                    } else {
+                        block.props.push((name, value));
+                    }
+                }
+                Stmt::Transform(_) | Stmt::Motion { .. } if allow.transforms => {
+                    block.transforms.push(stmt)
+                }
+                Stmt::Object(_) | Stmt::Place { .. } if allow.children => block.children.push(stmt),
+                Stmt::Size { width, height, .. } if allow.size && block.size.is_none() => {
+                    block.size = Some((width, height))
+                }
+                Stmt::Shutter { open, close, .. } if allow.shutter && block.shutter.is_none() => {
+                    block.shutter = Some((open, close))
+                }
+                other => self.misplaced(other, allow),
+            }
+        }
+        block
+    }
+
+    fn unknown_property(&mut self, name: &Ident, allow: &Allow) {
+        let mut known: Vec<&str> = allow.props.to_vec();
+        if allow.size {
+            known.push("size");
+        }
+        if allow.shutter {
+            known.push("shutter");
+        }
+        let help = match names::suggest(&name.name, known.iter().copied()) {
+            Some(s) => format!("did you mean `{s}`?"),
+            None if known.is_empty() => format!("`{}` takes no properties", allow.what),
+            None => format!("`{}` knows: {}", allow.what, known.join(", ")),
+        };
+        self.report(
+            Diagnostic::error(
+                "rtlang::unknown-property",
+                name.span,
+                format!("`{}` has no property `{}`", allow.what, name.name),
+            )
+            .label("unknown property")
+            .help(help),
+        );
+    }
+
+    fn misplaced(&mut self, stmt: &Stmt, allow: &Allow) {
+        let (span, what) = match stmt {
+            Stmt::Transform(t) => (t.span, "a transform"),
+            Stmt::Motion { span, .. } => (*span, "a motion block"),
+            Stmt::Object(o) => (o.head, "an object"),
+            Stmt::Place { span, .. } => (*span, "a `place`"),
+            Stmt::Size { span, .. } => (*span, "`size`"),
+            Stmt::Shutter { span, .. } => (*span, "`shutter`"),
+            Stmt::Property { span, .. } => (*span, "a property"),
+        };
+        let twice = matches!(stmt, Stmt::Size { .. } | Stmt::Shutter { .. })
+            && ((allow.size && matches!(stmt, Stmt::Size { .. }))
+                || (allow.shutter && matches!(stmt, Stmt::Shutter { .. })));
+        let d = if twice {
+            Diagnostic::error("rtlang::duplicate", span, format!("{what} is given twice"))
+                .label("second time")
+                .help("give each property once")
+        } else {
+            Diagnostic::error(
+                "rtlang::misplaced",
+                span,
+                format!("{what} cannot appear in `{}`", allow.what),
+            )
+            .label("not allowed here")
+            .help(match stmt {
+                Stmt::Object(_) | Stmt::Place { .. } => {
+                    "put objects at top level or inside a `group`"
+                }
+                Stmt::Size { .. } | Stmt::Shutter { .. } => {
+                    "`size` belongs in `render`, `shutter` in `camera`"
+                }
+                _ => "see docs/language.md for what each block accepts",
+            })
+        };
+        self.report(d);
+    }
+
+    /// Property `name` evaluated, if present.
+    pub(super) fn prop(&mut self, b: &Block, name: &str) -> Eval<Option<(Value, Span)>> {
+        match b.get(name) {
+            Some(e) => Ok(Some((self.expr(e)?, e.span))),
+            None => Ok(None),
+        }
+    }
+
+    /// A number property with a default.
+    pub(super) fn prop_num(&mut self, b: &Block, name: &str, default: f64) -> Eval<(f64, Span)> {
+        match self.prop(b, name)? {
+            Some((v, s)) => Ok((self.num(&v, s)?, s)),
+            None => Ok((default, Span::default())),
+        }
+    }
+
+    /// A 3-vector property with a default.
+    pub(super) fn prop_vec3(
+        &mut self,
+        b: &Block,
+        name: &str,
+        default: DVec3,
+    ) -> Eval<(DVec3, Span)> {
+        match self.prop(b, name)? {
+            Some((v, s)) => Ok((self.vec3(&v, s)?, s)),
+            None => Ok((default, Span::default())),
+        }
+    }
+
+    /// A 2-vector property with a default.
+    pub(super) fn prop_vec2(
+        &mut self,
+        b: &Block,
+        name: &str,
+        default: DVec2,
+    ) -> Eval<(DVec2, Span)> {
+        match self.prop(b, name)? {
+            Some((v, s)) => Ok((self.vec2(&v, s)?, s)),
+            None => Ok((default, Span::default())),
+        }
+    }
+
+    /// A whole-number property with a default.
+    pub(super) fn prop_count(&mut self, b: &Block, name: &str, default: u32) -> Eval<(u32, Span)> {
+        match self.prop(b, name)? {
+            Some((v, s)) => Ok((self.count(&v, s, &format!("`{name}`"))?, s)),
+            None => Ok((default, Span::default())),
+        }
+    }
+
+    /// An error unless `ok`: `what` is out of range.
+    pub(super) fn range(&mut self, ok: bool, span: Span, message: String, help: &str) -> Eval<()> {
+        if ok {
+            Ok(())
+        } else {
+            Err(self.report(
+                Diagnostic::error("rtlang::range", span, message)
+                    .label("out of range")
+                    .help(help.to_string()),
+            ))
+        }
+    }
+}

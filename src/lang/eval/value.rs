@@ -1,0 +1,138 @@
+//! Values of the language, their type names, and arithmetic on them.
+
+use std::rc::Rc;
+
+use glam::{DVec2, DVec3};
+
+use crate::scene::{Bezier, MaterialId, Node, TextureId};
+
+use super::issue::Issue;
+
+/// A value computed by the evaluator.
+#[derive(Clone, Debug)]
+pub enum Value {
+    Num(f64),
+    Bool(bool),
+    Str(Rc<str>),
+    Vec2(DVec2),
+    /// A 3-vector: a point, a direction or a linear RGB colour.
+    Vec3(DVec3),
+    List(Rc<[Value]>),
+    Texture(TextureId),
+    Material(MaterialId),
+    Curve(Rc<Bezier>),
+    /// `gradient(bottom, top)`, only meaningful as a background.
+    Gradient(DVec3, DVec3),
+    Object(Rc<Node>),
+}
+
+impl Value {
+    /// The type's name as shown in diagnostics.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Value::Num(_) => "a number",
+            Value::Bool(_) => "a boolean",
+            Value::Str(_) => "a string",
+            Value::Vec2(_) => "a 2-vector",
+            Value::Vec3(_) => "a 3-vector",
+            Value::List(_) => "a list",
+            Value::Texture(_) => "a texture",
+            Value::Material(_) => "a material",
+            Value::Curve(_) => "a curve",
+            Value::Gradient(..) => "a gradient",
+            Value::Object(_) => "an object",
+        }
+    }
+}
+
+/// `a op b` for the arithmetic operators.
+pub fn binary(op: crate::lang::ast::BinOp, a: &Value, b: &Value) -> Result<Value, Issue> {
+    use crate::lang::ast::BinOp::*;
+    use Value::*;
+    let r = match (op, a, b) {
+        (_, Num(x), Num(y)) => Num(scalar(op, *x, *y)?),
+        (Add, Vec3(x), Vec3(y)) => Vec3(*x + *y),
+        (Sub, Vec3(x), Vec3(y)) => Vec3(*x - *y),
+        (Mul, Vec3(x), Vec3(y)) => Vec3(*x * *y),
+        (Add, Vec2(x), Vec2(y)) => Vec2(*x + *y),
+        (Sub, Vec2(x), Vec2(y)) => Vec2(*x - *y),
+        (Mul, Vec2(x), Vec2(y)) => Vec2(*x * *y),
+        (Mul, Vec3(v), Num(s)) | (Mul, Num(s), Vec3(v)) => Vec3(*v * *s),
+        (Mul, Vec2(v), Num(s)) | (Mul, Num(s), Vec2(v)) => Vec2(*v * *s),
+        (Div, Vec3(v), Num(s)) => Vec3(*v / nonzero(*s)?),
+        (Div, Vec2(v), Num(s)) => Vec2(*v / nonzero(*s)?),
+        _ => {
+            return Err(Issue::new(
+                "rtlang::type",
+                format!(
+                    "cannot apply `{}` to {} and {}",
+                    symbol(op),
+                    a.type_name(),
+                    b.type_name()
+                ),
+            )
+            .help("arithmetic works on numbers, and on vectors with vectors or numbers"))
+        }
+    };
+    Ok(r)
+}
+
+/// `-a`.
+pub fn negate(a: &Value) -> Result<Value, Issue> {
+    match a {
+        Value::Num(x) => Ok(Value::Num(-x)),
+        Value::Vec2(v) => Ok(Value::Vec2(-*v)),
+        Value::Vec3(v) => Ok(Value::Vec3(-*v)),
+        _ => Err(
+            Issue::new("rtlang::type", format!("cannot negate {}", a.type_name()))
+                .help("`-` works on numbers and vectors"),
+        ),
+    }
+}
+
+/// A binary operator on numbers; division by zero and non-finite results
+/// are errors.
+pub fn scalar(op: crate::lang::ast::BinOp, x: f64, y: f64) -> Result<f64, Issue> {
+    use crate::lang::ast::BinOp::*;
+    let r = match op {
+        Add => x + y,
+        Sub => x - y,
+        Mul => x * y,
+        Div => x / nonzero(y)?,
+        Pow => x.powf(y),
+    };
+    finite(r)
+}
+
+/// Refuses NaN and infinities.
+pub fn finite(r: f64) -> Result<f64, Issue> {
+    if r.is_finite() {
+        Ok(r)
+    } else {
+        Err(
+            Issue::new("rtlang::not-finite", "the result is not a finite number")
+                .help("check for overflow, a negative square root or a logarithm of zero or less"),
+        )
+    }
+}
+
+fn nonzero(y: f64) -> Result<f64, Issue> {
+    if y == 0.0 {
+        Err(Issue::new("rtlang::division-by-zero", "division by zero")
+            .label("this is zero")
+            .help("the divisor of a constant expression must not be 0"))
+    } else {
+        Ok(y)
+    }
+}
+
+fn symbol(op: crate::lang::ast::BinOp) -> &'static str {
+    use crate::lang::ast::BinOp::*;
+    match op {
+        Add => "+",
+        Sub => "-",
+        Mul => "*",
+        Div => "/",
+        Pow => "^",
+    }
+}

@@ -1,0 +1,325 @@
+//! The canonical printer: an AST back to source text in one fixed layout
+//! (two-space indent, one statement per line, minimal parentheses). Used by
+//! `rtlang parse` and its snapshot tests; printing and re-parsing gives the
+//! same tree.
+
+use std::fmt::Write;
+
+use super::ast::*;
+
+/// The canonical source of a file.
+pub fn file(file: &File) -> String {
+    let mut p = Printer::default();
+    for item in &file.items {
+        p.item(item);
+    }
+    p.out
+}
+
+/// The canonical source of one expression.
+pub fn expr(e: &Expr) -> String {
+    let mut p = Printer::default();
+    p.expr(e, 0);
+    p.out
+}
+
+#[derive(Default)]
+struct Printer {
+    out: String,
+    indent: usize,
+}
+
+impl Printer {
+    fn line(&mut self, text: &str) {
+        for _ in 0..self.indent {
+            self.out.push_str("  ");
+        }
+        self.out.push_str(text);
+    }
+
+    fn item(&mut self, item: &Item) {
+        match item {
+            Item::Let { name, value, .. } | Item::Param { name, value, .. } => {
+                let kw = if matches!(item, Item::Let { .. }) {
+                    "let"
+                } else {
+                    "param"
+                };
+                self.line(&format!("{kw} {} = ", name.name));
+                self.expr(value, 0);
+                self.out.push('\n');
+            }
+            Item::Include { path, .. } => {
+                self.line(&format!("include {}\n", quote(path)));
+            }
+            Item::Render { body, .. } => {
+                self.line("render");
+                self.block(body);
+                self.out.push('\n');
+            }
+            Item::Camera { body, .. } => {
+                self.line("camera");
+                self.block(body);
+                self.out.push('\n');
+            }
+            Item::Stmt(stmt) => self.stmt(stmt),
+        }
+    }
+
+    fn block(&mut self, body: &[Stmt]) {
+        if body.is_empty() {
+            self.out.push_str(" {}");
+            return;
+        }
+        self.out.push_str(" {\n");
+        self.indent += 1;
+        for stmt in body {
+            self.stmt(stmt);
+        }
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    fn stmt(&mut self, stmt: &Stmt) {
+        match stmt {
+            Stmt::Property { name, value, .. } => {
+                self.line(&format!("{} ", name.name));
+                self.expr(value, 0);
+            }
+            Stmt::Size { width, height, .. } => {
+                self.line("size ");
+                self.expr(width, 0);
+                self.out.push_str(" x ");
+                self.expr(height, 0);
+            }
+            Stmt::Shutter { open, close, .. } => {
+                self.line("shutter ");
+                self.expr(open, 0);
+                self.out.push(' ');
+                self.atom(close);
+            }
+            Stmt::Transform(t) => self.transform(t),
+            Stmt::Motion { body, .. } => {
+                self.line("motion");
+                self.block(body);
+            }
+            Stmt::Object(object) => {
+                self.line("");
+                self.object(object);
+            }
+            Stmt::Place { name, body, .. } => {
+                self.line(&format!("place {}", name.name));
+                if !body.is_empty() {
+                    self.block(body);
+                }
+            }
+        }
+        self.out.push('\n');
+    }
+
+    fn transform(&mut self, t: &Transform) {
+        match &t.kind {
+            TransformKind::Translate(e) => {
+                self.line("translate ");
+                self.expr(e, 0);
+            }
+            TransformKind::RotateAxis(axis, e) => {
+                let a = match axis {
+                    Axis::X => "x",
+                    Axis::Y => "y",
+                    Axis::Z => "z",
+                };
+                self.line(&format!("rotate {a} "));
+                self.atom(e);
+            }
+            TransformKind::Rotate(axis, e) => {
+                self.line("rotate ");
+                self.expr(axis, 0);
+                self.out.push(' ');
+                self.atom(e);
+            }
+            TransformKind::Scale(e) => {
+                self.line("scale ");
+                self.expr(e, 0);
+            }
+            TransformKind::Matrix(e) => {
+                self.line("matrix ");
+                self.expr(e, 0);
+            }
+        }
+    }
+
+    /// An expression that follows another one directly: parenthesised unless
+    /// it is a single token, so a leading `-` cannot join the previous one.
+    fn atom(&mut self, e: &Expr) {
+        if matches!(e.kind, ExprKind::Neg(_) | ExprKind::Binary(..)) {
+            self.out.push('(');
+            self.expr(e, 0);
+            self.out.push(')');
+        } else {
+            self.expr(e, 0);
+        }
+    }
+
+    fn object(&mut self, o: &Object) {
+        match &o.kind {
+            ObjectKind::Sphere => self.out.push_str("sphere"),
+            ObjectKind::Plane => self.out.push_str("plane"),
+            ObjectKind::Box => self.out.push_str("box"),
+            ObjectKind::Triangle => self.out.push_str("triangle"),
+            ObjectKind::Medium => self.out.push_str("medium"),
+            ObjectKind::Group => self.out.push_str("group"),
+            ObjectKind::Rect(plane) => self.out.push_str(match plane {
+                RectPlane::Xy => "rect xy",
+                RectPlane::Xz => "rect xz",
+                RectPlane::Yz => "rect yz",
+            }),
+            ObjectKind::Mesh(e) | ObjectKind::Revolve(e) => {
+                let kw = if matches!(o.kind, ObjectKind::Mesh(_)) {
+                    "mesh "
+                } else {
+                    "revolve "
+                };
+                self.out.push_str(kw);
+                self.primary(e);
+            }
+            ObjectKind::Repeat { var, from, to } => {
+                let _ = write!(self.out, "repeat {} in ", var.name);
+                self.expr(from, 0);
+                self.out.push_str("..");
+                self.expr(to, 0);
+            }
+        }
+        self.block(&o.body);
+    }
+
+    /// An expression in a position that only takes a primary.
+    fn primary(&mut self, e: &Expr) {
+        if matches!(e.kind, ExprKind::Neg(_) | ExprKind::Binary(..)) {
+            self.out.push('(');
+            self.expr(e, 0);
+            self.out.push(')');
+        } else {
+            self.expr(e, 0);
+        }
+    }
+
+    /// Prints `e`, parenthesised if its precedence is below `min`.
+    fn expr(&mut self, e: &Expr, min: u8) {
+        let prec = precedence(e);
+        let paren = prec < min;
+        if paren {
+            self.out.push('(');
+        }
+        match &e.kind {
+            ExprKind::Number(v) => self.number(*v),
+            ExprKind::Str(s) => self.out.push_str(&quote(s)),
+            ExprKind::Bool(b) => {
+                let _ = write!(self.out, "{b}");
+            }
+            ExprKind::Hex(h) => {
+                let _ = write!(self.out, "#{h}");
+            }
+            ExprKind::Name(n) => self.out.push_str(n),
+            ExprKind::Tuple(items) => {
+                self.out.push('(');
+                self.list(items);
+                self.out.push(')');
+            }
+            ExprKind::List(items) => {
+                self.out.push('[');
+                self.list(items);
+                self.out.push(']');
+            }
+            ExprKind::Bezier(items) => {
+                self.out.push_str("bezier [");
+                self.list(items);
+                self.out.push(']');
+            }
+            ExprKind::Call { callee, args } => {
+                self.out.push_str(&callee.name);
+                self.out.push('(');
+                for (i, arg) in args.iter().enumerate() {
+                    if i > 0 {
+                        self.out.push_str(", ");
+                    }
+                    if let Some(name) = &arg.name {
+                        let _ = write!(self.out, "{}: ", name.name);
+                    }
+                    self.expr(&arg.value, 0);
+                }
+                self.out.push(')');
+            }
+            ExprKind::Neg(x) => {
+                self.out.push('-');
+                self.expr(x, 3);
+            }
+            ExprKind::Binary(op, a, b) => {
+                let (sym, left, right) = match op {
+                    BinOp::Add => (" + ", 1, 2),
+                    BinOp::Sub => (" - ", 1, 2),
+                    BinOp::Mul => (" * ", 2, 3),
+                    BinOp::Div => (" / ", 2, 3),
+                    BinOp::Pow => ("^", 5, 4),
+                };
+                self.expr(a, left);
+                self.out.push_str(sym);
+                self.expr(b, right);
+            }
+            ExprKind::Object(o) => {
+                let indent = self.indent;
+                self.object(o);
+                self.indent = indent;
+            }
+            ExprKind::Error => self.out.push_str("<error>"),
+        }
+        if paren {
+            self.out.push(')');
+        }
+    }
+
+    fn number(&mut self, v: f64) {
+        let a = v.abs();
+        if a != 0.0 && !(1e-5..1e16).contains(&a) {
+            let _ = write!(self.out, "{v:e}");
+        } else {
+            let _ = write!(self.out, "{v}");
+        }
+    }
+
+    fn list(&mut self, items: &[Expr]) {
+        for (i, item) in items.iter().enumerate() {
+            if i > 0 {
+                self.out.push_str(", ");
+            }
+            self.expr(item, 0);
+        }
+    }
+}
+
+/// Binding strength: 1 sum, 2 product, 3 negation, 4 power, 5 atom.
+fn precedence(e: &Expr) -> u8 {
+    match &e.kind {
+        ExprKind::Binary(BinOp::Add | BinOp::Sub, ..) => 1,
+        ExprKind::Binary(BinOp::Mul | BinOp::Div, ..) => 2,
+        ExprKind::Neg(_) => 3,
+        ExprKind::Binary(BinOp::Pow, ..) => 4,
+        _ => 5,
+    }
+}
+
+/// A string literal with `"` and `\` escaped.
+fn quote(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}

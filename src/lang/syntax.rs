@@ -1,0 +1,588 @@
+//! Parsing: source text → [`ast::File`] with byte spans, through the pest
+//! grammar in `grammar/rtlang.pest`. Also the input limits checked before
+//! parsing (nesting depth), so no input can exhaust the stack.
+
+use std::sync::LazyLock;
+
+use pest::iterators::{Pair, Pairs};
+use pest::pratt_parser::{Assoc, Op, PrattParser};
+use pest::Parser;
+
+use super::ast::*;
+use super::diagnostics::Diagnostic;
+
+#[derive(pest_derive::Parser)]
+#[grammar = "grammar/rtlang.pest"]
+struct Grammar;
+
+/// Deepest bracket nesting accepted in a file.
+pub const MAX_NESTING: usize = 64;
+/// Deepest expression tree accepted (operator chains count one per operator).
+pub const MAX_EXPR_DEPTH: usize = 256;
+
+static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
+    PrattParser::new()
+        .op(Op::infix(Rule::add, Assoc::Left) | Op::infix(Rule::sub, Assoc::Left))
+        .op(Op::infix(Rule::mul, Assoc::Left) | Op::infix(Rule::div, Assoc::Left))
+        .op(Op::prefix(Rule::neg))
+        .op(Op::infix(Rule::pow, Assoc::Right))
+});
+
+/// Parses a whole file. On a syntax error returns its diagnostic; lowering
+/// problems (bad escapes, too-deep expressions) are returned alongside the tree.
+pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Diagnostic> {
+    check_nesting(text, file)?;
+    let pairs = Grammar::parse(Rule::file, text).map_err(|e| syntax_error(e, file))?;
+    let mut lower = Lower {
+        file,
+        diagnostics: Vec::new(),
+    };
+    let mut items = Vec::new();
+    for pair in pairs.flatten().take(1).flat_map(|p| p.into_inner()) {
+        if pair.as_rule() != Rule::EOI {
+            items.push(lower.item(pair));
+        }
+    }
+    Ok((File { items }, lower.diagnostics))
+}
+
+/// Parses a single expression (a `-D` value); `None` if it is not one.
+pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
+    check_nesting(text, file).ok()?;
+    let mut pairs = Grammar::parse(Rule::define_value, text).ok()?;
+    let mut lower = Lower {
+        file,
+        diagnostics: Vec::new(),
+    };
+    let expr = lower.expr(pairs.next()?.into_inner().next()?);
+    lower.diagnostics.is_empty().then_some(expr)
+}
+
+/// Refuses files whose brackets nest deeper than [`MAX_NESTING`], before the
+/// recursive-descent parser sees them.
+fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
+    let bytes = text.as_bytes();
+    let mut depth = 0usize;
+    let mut pow_run = 0usize;
+    let mut neg_run = 0usize;
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && bytes[i] != b'"' && bytes[i] != b'\n' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i < bytes.len() && bytes[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i < bytes.len() && !(bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/')) {
+                    i += 1;
+                }
+                i += 1;
+            }
+            b'(' | b'[' | b'{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(Diagnostic::error(
+                        "rtlang::too-deep",
+                        Span::new(file, i, i + 1),
+                        format!("brackets nest more than {MAX_NESTING} deep"),
+                    )
+                    .label("this bracket is too deep")
+                    .help("flatten the expression with `let` definitions"));
+                }
+            }
+            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        let Some(&byte) = bytes.get(i) else { break };
+        match byte {
+            b'(' | b')' | b'[' | b']' | b'{' | b'}' | b',' => pow_run = 0,
+            b'^' => pow_run += 1,
+            _ => {}
+        }
+        match byte {
+            b'-' => neg_run += 1,
+            b' ' | b'\t' | b'\r' | b'\n' => {}
+            _ => neg_run = 0,
+        }
+        if pow_run > MAX_EXPR_DEPTH || neg_run > MAX_EXPR_DEPTH {
+            return Err(Diagnostic::error(
+                "rtlang::too-deep",
+                Span::new(file, i, i + 1),
+                format!("more than {MAX_EXPR_DEPTH} chained `^` or `-` operators"),
+            )
+            .label("too deep")
+            .help("split the expression into several `let` definitions"));
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+/// Turns pest's error into a diagnostic with words a user understands.
+fn syntax_error(error: pest::error::Error<Rule>, file: u32) -> Diagnostic {
+    let error = error.renamed_rules(|rule| rule_name(*rule).to_string());
+    let (start, end) = match error.location {
+        pest::error::InputLocation::Pos(p) => (p, p),
+        pest::error::InputLocation::Span((s, e)) => (s, e),
+    };
+    let message = match &error.variant {
+        pest::error::ErrorVariant::ParsingError { positives, .. } if !positives.is_empty() => {
+            let mut names: Vec<String> = positives
+                .iter()
+                .map(|r| rule_name(*r).to_string())
+                .collect();
+            names.sort();
+            names.dedup();
+            format!("expected {}", join_or(&names))
+        }
+        pest::error::ErrorVariant::ParsingError { .. } => "unexpected input".to_string(),
+        pest::error::ErrorVariant::CustomError { message } => message.clone(),
+    };
+    Diagnostic::error("rtlang::syntax", Span::new(file, start, end), message)
+        .label("here")
+        .help("see docs/language.md for the syntax of each statement")
+}
+
+fn join_or(names: &[String]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} or {}", rest.join(", "), last),
+    }
+}
+
+/// The words for a grammar rule in syntax errors.
+fn rule_name(rule: Rule) -> &'static str {
+    match rule {
+        Rule::EOI => "end of file",
+        Rule::item | Rule::let_item | Rule::param_item | Rule::include_item => "a statement",
+        Rule::render_item | Rule::camera_item => "a statement",
+        Rule::block => "`{`",
+        Rule::stmt | Rule::property | Rule::size_prop | Rule::shutter_prop | Rule::mode_prop => {
+            "a property"
+        }
+        Rule::translate | Rule::rotate | Rule::scale | Rule::matrix | Rule::motion => "a transform",
+        Rule::place => "`place`",
+        Rule::object | Rule::simple_object | Rule::shape_kw => "an object",
+        Rule::rect_object | Rule::mesh_object | Rule::revolve_object | Rule::repeat_object => {
+            "an object"
+        }
+        Rule::rect_plane => "a plane (`xy`, `xz` or `yz`)",
+        Rule::axis => "an axis",
+        Rule::expr | Rule::primary | Rule::prefix | Rule::neg => "an expression",
+        Rule::infix | Rule::add | Rule::sub | Rule::mul | Rule::div | Rule::pow => "an operator",
+        Rule::call | Rule::callee => "a call",
+        Rule::arg | Rule::kwarg => "an argument",
+        Rule::vector => "a vector",
+        Rule::list => "a list `[...]`",
+        Rule::bezier | Rule::kw_bezier => "`bezier`",
+        Rule::name | Rule::ident => "a name",
+        Rule::number => "a number",
+        Rule::string => "a string",
+        Rule::boolean => "`true` or `false`",
+        Rule::hex_color => "a colour `#rrggbb`",
+        Rule::kw_x => "`x`",
+        Rule::mode_name => "`mesh` or `analytic`",
+        Rule::kw_in => "`in`",
+        _ => "a keyword",
+    }
+}
+
+/// The pest pairs → AST pass; collects the few problems found here.
+struct Lower {
+    file: u32,
+    diagnostics: Vec<Diagnostic>,
+}
+
+impl Lower {
+    fn span(&self, pair: &Pair<Rule>) -> Span {
+        let s = pair.as_span();
+        Span::new(self.file, s.start(), s.end())
+    }
+
+    fn ident(&self, pair: Pair<Rule>) -> Ident {
+        Ident {
+            name: pair.as_str().to_string(),
+            span: self.span(&pair),
+        }
+    }
+
+    fn item(&mut self, pair: Pair<Rule>) -> Item {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut inner = pair.clone().into_inner();
+        match rule {
+            Rule::let_item | Rule::param_item => {
+                inner.next();
+                let name = self.ident(next(&mut inner));
+                let value = self.expr(next(&mut inner));
+                if rule == Rule::let_item {
+                    Item::Let { name, value, span }
+                } else {
+                    Item::Param { name, value, span }
+                }
+            }
+            Rule::include_item => {
+                inner.next();
+                let path = self.string(next(&mut inner));
+                Item::Include { path, span }
+            }
+            Rule::render_item => {
+                inner.next();
+                Item::Render {
+                    body: self.block(next(&mut inner)),
+                    span,
+                }
+            }
+            Rule::camera_item => {
+                inner.next();
+                Item::Camera {
+                    body: self.block(next(&mut inner)),
+                    span,
+                }
+            }
+            _ => Item::Stmt(self.stmt(pair)),
+        }
+    }
+
+    fn block(&mut self, pair: Pair<Rule>) -> Vec<Stmt> {
+        pair.into_inner().map(|p| self.stmt(p)).collect()
+    }
+
+    fn stmt(&mut self, pair: Pair<Rule>) -> Stmt {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut inner = pair.clone().into_inner();
+        match rule {
+            Rule::property => {
+                let name = self.ident(next(&mut inner));
+                let value = self.expr(next(&mut inner));
+                Stmt::Property { name, value, span }
+            }
+            Rule::mode_prop => {
+                let name = self.ident(next(&mut inner));
+                let arg = next(&mut inner);
+                let value = if arg.as_rule() == Rule::mode_name {
+                    Expr {
+                        kind: ExprKind::Name(arg.as_str().to_string()),
+                        span: self.span(&arg),
+                    }
+                } else {
+                    self.expr(arg)
+                };
+                Stmt::Property { name, value, span }
+            }
+            Rule::size_prop => {
+                inner.next();
+                let width = self.expr(next(&mut inner));
+                inner.next();
+                let height = self.expr(next(&mut inner));
+                Stmt::Size {
+                    width,
+                    height,
+                    span,
+                }
+            }
+            Rule::shutter_prop => {
+                inner.next();
+                let open = self.expr(next(&mut inner));
+                let close = self.expr(next(&mut inner));
+                Stmt::Shutter { open, close, span }
+            }
+            Rule::motion => {
+                inner.next();
+                Stmt::Motion {
+                    body: self.block(next(&mut inner)),
+                    span,
+                }
+            }
+            Rule::place => {
+                inner.next();
+                let name = self.ident(next(&mut inner));
+                let body = inner.next().map(|b| self.block(b)).unwrap_or_default();
+                Stmt::Place { name, body, span }
+            }
+            Rule::object => Stmt::Object(self.object(pair)),
+            _ => Stmt::Transform(self.transform(pair)),
+        }
+    }
+
+    fn transform(&mut self, pair: Pair<Rule>) -> Transform {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut inner = pair.into_inner();
+        inner.next();
+        let first = next(&mut inner);
+        let kind = match rule {
+            Rule::translate => TransformKind::Translate(self.expr(first)),
+            Rule::scale => TransformKind::Scale(self.expr(first)),
+            Rule::matrix => TransformKind::Matrix(self.expr(first)),
+            _ if first.as_rule() == Rule::axis => {
+                let axis = match first.as_str() {
+                    "x" => Axis::X,
+                    "y" => Axis::Y,
+                    _ => Axis::Z,
+                };
+                TransformKind::RotateAxis(axis, self.expr(next(&mut inner)))
+            }
+            _ => {
+                let axis = self.expr(first);
+                TransformKind::Rotate(axis, self.expr(next(&mut inner)))
+            }
+        };
+        Transform { kind, span }
+    }
+
+    fn object(&mut self, pair: Pair<Rule>) -> Object {
+        let span = self.span(&pair);
+        let pair = next(&mut pair.into_inner());
+        let rule = pair.as_rule();
+        let mut inner = pair.into_inner();
+        let keyword = next(&mut inner);
+        let mut head = self.span(&keyword);
+        let kind = match rule {
+            Rule::simple_object => match keyword.as_str() {
+                "sphere" => ObjectKind::Sphere,
+                "plane" => ObjectKind::Plane,
+                "box" => ObjectKind::Box,
+                "triangle" => ObjectKind::Triangle,
+                "medium" => ObjectKind::Medium,
+                _ => ObjectKind::Group,
+            },
+            Rule::rect_object => {
+                let plane = next(&mut inner);
+                head = head.to(self.span(&plane));
+                ObjectKind::Rect(match plane.as_str() {
+                    "xy" => RectPlane::Xy,
+                    "xz" => RectPlane::Xz,
+                    _ => RectPlane::Yz,
+                })
+            }
+            Rule::mesh_object | Rule::revolve_object => {
+                let arg = self.primary(next(&mut inner));
+                head = head.to(arg.span);
+                if rule == Rule::mesh_object {
+                    ObjectKind::Mesh(arg)
+                } else {
+                    ObjectKind::Revolve(arg)
+                }
+            }
+            _ => {
+                let var = self.ident(next(&mut inner));
+                inner.next();
+                let from = self.expr(next(&mut inner));
+                let to = self.expr(next(&mut inner));
+                head = head.to(to.span);
+                ObjectKind::Repeat { var, from, to }
+            }
+        };
+        let body = inner.next().map(|b| self.block(b)).unwrap_or_default();
+        Object {
+            kind,
+            body,
+            span,
+            head,
+        }
+    }
+
+    fn expr(&mut self, pair: Pair<Rule>) -> Expr {
+        let file = self.file;
+        let cell = std::cell::RefCell::new(std::mem::take(&mut self.diagnostics));
+        let result = PRATT
+            .map_primary(|p| {
+                let mut lower = Lower {
+                    file,
+                    diagnostics: Vec::new(),
+                };
+                let e = lower.primary(p);
+                cell.borrow_mut().extend(lower.diagnostics);
+                e
+            })
+            .map_prefix(|op, rhs| {
+                let span = Span::new(file, op.as_span().start(), 0).to(rhs.span);
+                let shape = shape_of(&[&rhs]);
+                bounded(&cell, span, shape, move || ExprKind::Neg(Box::new(rhs)))
+            })
+            .map_infix(|lhs, op, rhs| {
+                let span = lhs.span.to(rhs.span);
+                let bin = match op.as_rule() {
+                    Rule::add => BinOp::Add,
+                    Rule::sub => BinOp::Sub,
+                    Rule::mul => BinOp::Mul,
+                    Rule::div => BinOp::Div,
+                    _ => BinOp::Pow,
+                };
+                let shape = shape_of(&[&lhs, &rhs]);
+                bounded(&cell, span, shape, move || {
+                    ExprKind::Binary(bin, Box::new(lhs), Box::new(rhs))
+                })
+            })
+            .parse(pair.into_inner());
+        self.diagnostics = cell.into_inner();
+        result
+    }
+
+    fn primary(&mut self, pair: Pair<Rule>) -> Expr {
+        let span = self.span(&pair);
+        let kind = match pair.as_rule() {
+            Rule::number => match pair.as_str().parse::<f64>() {
+                Ok(v) if v.is_finite() => ExprKind::Number(v),
+                _ => {
+                    self.diagnostics.push(
+                        Diagnostic::error("rtlang::number", span, "number out of range")
+                            .label("not a finite number")
+                            .help("numbers must fit in a 64-bit float"),
+                    );
+                    ExprKind::Error
+                }
+            },
+            Rule::string => ExprKind::Str(self.string(pair)),
+            Rule::boolean => ExprKind::Bool(pair.as_str() == "true"),
+            Rule::hex_color => ExprKind::Hex(pair.as_str()[1..].to_string()),
+            Rule::name => ExprKind::Name(pair.as_str().to_string()),
+            Rule::vector => ExprKind::Tuple(self.exprs(pair.into_inner())),
+            Rule::list => ExprKind::List(self.exprs(pair.into_inner())),
+            Rule::bezier => {
+                let list = pair.into_inner().nth(1).map(|l| l.into_inner());
+                ExprKind::Bezier(list.map(|l| self.exprs(l)).unwrap_or_default())
+            }
+            Rule::object => ExprKind::Object(Box::new(self.object(pair))),
+            Rule::call => {
+                let mut inner = pair.into_inner();
+                let callee = self.ident(next(&mut inner));
+                let args = inner
+                    .map(|a| {
+                        if a.as_rule() == Rule::kwarg {
+                            let mut kv = a.into_inner();
+                            let name = self.ident(next(&mut kv));
+                            Arg {
+                                name: Some(name),
+                                value: self.expr(next(&mut kv)),
+                            }
+                        } else {
+                            Arg {
+                                name: None,
+                                value: self.expr(a),
+                            }
+                        }
+                    })
+                    .collect();
+                ExprKind::Call { callee, args }
+            }
+            _ => ExprKind::Error,
+        };
+        Expr { kind, span }
+    }
+
+    fn exprs(&mut self, pairs: Pairs<Rule>) -> Vec<Expr> {
+        pairs.map(|p| self.expr(p)).collect()
+    }
+
+    /// The value of a string literal with its escapes resolved.
+    fn string(&mut self, pair: Pair<Rule>) -> String {
+        let raw = pair.as_str();
+        let body = &raw[1..raw.len() - 1];
+        let mut out = String::with_capacity(body.len());
+        let mut chars = body.char_indices();
+        while let Some((i, c)) = chars.next() {
+            if c != '\\' {
+                out.push(c);
+                continue;
+            }
+            match chars.next() {
+                Some((_, '"')) => out.push('"'),
+                Some((_, '\\')) => out.push('\\'),
+                Some((_, 'n')) => out.push('\n'),
+                Some((_, 't')) => out.push('\t'),
+                other => {
+                    let start = pair.as_span().start() + 1 + i;
+                    let end = start + 1 + other.map_or(0, |(_, c)| c.len_utf8());
+                    self.diagnostics.push(
+                        Diagnostic::error(
+                            "rtlang::bad-escape",
+                            Span::new(self.file, start, end),
+                            "unknown escape in string",
+                        )
+                        .label("not an escape")
+                        .help("strings know `\\\"`, `\\\\`, `\\n` and `\\t`"),
+                    );
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Builds a node unless it would make the tree deeper than
+/// [`MAX_EXPR_DEPTH`]; then reports once and returns an error leaf.
+fn bounded(
+    diagnostics: &std::cell::RefCell<Vec<Diagnostic>>,
+    span: Span,
+    (deepest, has_error): (usize, bool),
+    build: impl FnOnce() -> ExprKind,
+) -> Expr {
+    if has_error {
+        return Expr {
+            kind: ExprKind::Error,
+            span,
+        };
+    }
+    if deepest + 1 > MAX_EXPR_DEPTH {
+        diagnostics.borrow_mut().push(
+            Diagnostic::error(
+                "rtlang::too-deep",
+                span,
+                format!("expression is more than {MAX_EXPR_DEPTH} operators deep"),
+            )
+            .label("too deep")
+            .help("split it into several `let` definitions"),
+        );
+        return Expr {
+            kind: ExprKind::Error,
+            span,
+        };
+    }
+    Expr {
+        kind: build(),
+        span,
+    }
+}
+
+/// The deepest child and whether any child is an error leaf.
+fn shape_of(children: &[&Expr]) -> (usize, bool) {
+    let deepest = children.iter().map(|c| depth(c)).max().unwrap_or(0);
+    (deepest, children.iter().any(|c| c.kind == ExprKind::Error))
+}
+
+/// Depth of an expression's operator spine (the only part that can be long
+/// without brackets).
+fn depth(e: &Expr) -> usize {
+    let mut d = 0;
+    let mut stack = vec![(e, 1usize)];
+    while let Some((e, level)) = stack.pop() {
+        d = d.max(level);
+        match &e.kind {
+            ExprKind::Neg(x) => stack.push((x, level + 1)),
+            ExprKind::Binary(_, a, b) => {
+                stack.push((a, level + 1));
+                stack.push((b, level + 1));
+            }
+            _ => {}
+        }
+    }
+    d
+}
+
+fn next<'a>(pairs: &mut Pairs<'a, Rule>) -> Pair<'a, Rule> {
+    pairs
+        .next()
+        .unwrap_or_else(|| unreachable!("the grammar guarantees this child"))
+}

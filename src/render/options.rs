@@ -1,0 +1,93 @@
+//! What to render: image size, samples, depth, seed, threads and crop, with
+//! the scene's settings as defaults.
+
+use crate::scene::Settings;
+
+/// A half-open pixel rectangle `x0..x1 × y0..y1` of the full image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Crop {
+    pub x0: u32,
+    pub x1: u32,
+    pub y0: u32,
+    pub y1: u32,
+}
+
+/// Everything that decides the pixels besides the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub max_depth: u32,
+    pub seed: u64,
+    /// Worker threads; `None` uses every core.
+    pub threads: Option<usize>,
+    pub crop: Option<Crop>,
+}
+
+/// Why options cannot be rendered.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum OptionsError {
+    #[error("the image size {0}×{1} is empty")]
+    EmptyImage(u32, u32),
+    #[error("samples per pixel must be at least 1")]
+    NoSamples,
+    #[error("crop {x0},{x1},{y0},{y1} is empty or outside the {width}×{height} image")]
+    BadCrop {
+        x0: u32,
+        x1: u32,
+        y0: u32,
+        y1: u32,
+        width: u32,
+        height: u32,
+    },
+    #[error("{0} threads requested; need at least 1")]
+    NoThreads(usize),
+}
+
+impl RenderOptions {
+    /// The scene's own settings, whole image, every core.
+    pub fn from_settings(s: &Settings) -> RenderOptions {
+        RenderOptions {
+            width: s.width,
+            height: s.height,
+            spp: s.spp,
+            max_depth: s.max_depth,
+            seed: s.seed,
+            threads: None,
+            crop: None,
+        }
+    }
+
+    /// The rendered region (the crop, or the whole image), after checking
+    /// that the options make sense.
+    pub fn region(&self) -> Result<Crop, OptionsError> {
+        if self.width == 0 || self.height == 0 {
+            return Err(OptionsError::EmptyImage(self.width, self.height));
+        }
+        if self.spp == 0 {
+            return Err(OptionsError::NoSamples);
+        }
+        if self.threads == Some(0) {
+            return Err(OptionsError::NoThreads(0));
+        }
+        let whole = Crop {
+            x0: 0,
+            x1: self.width,
+            y0: 0,
+            y1: self.height,
+        };
+        let c = self.crop.unwrap_or(whole);
+        if c.x0 >= c.x1 || c.y0 >= c.y1 || c.x1 > self.width || c.y1 > self.height {
+            return Err(OptionsError::BadCrop {
+                x0: c.x0,
+                x1: c.x1,
+                y0: c.y0,
+                y1: c.y1,
+                width: self.width,
+                height: self.height,
+            });
+        }
+        Ok(c)
+    }
+}

@@ -1,0 +1,153 @@
+//! Texture lookup: solid colours, 3-D and uv checkers, bilinear image
+//! lookup and turbulent-marble noise.
+
+use glam::{Vec2, Vec3};
+
+use crate::scene::texture::CheckerSpace;
+use crate::scene::{ImageData, Scene, Texture};
+
+/// How deep checkers of checkers may nest before the lookup gives up.
+const MAX_NESTING: u32 = 16;
+
+/// The colour of texture `id` of `scene` at surface point `p` with `uv`.
+pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: Vec2, p: Vec3) -> Vec3 {
+    let mut id = id;
+    for _ in 0..MAX_NESTING {
+        match scene.texture(id) {
+            Texture::Solid(c) => return *c,
+            Texture::Checker {
+                even,
+                odd,
+                scale,
+                space,
+            } => {
+                let is_even = match space {
+                    CheckerSpace::Solid => {
+                        let s = *scale * p;
+                        s.x.sin() * s.y.sin() * s.z.sin() >= 0.0
+                    }
+                    CheckerSpace::Uv => {
+                        let s = *scale * uv;
+                        (s.x.floor() + s.y.floor()).rem_euclid(2.0) == 0.0
+                    }
+                };
+                id = if is_even { *even } else { *odd };
+            }
+            Texture::Image(img) => return bilinear(img, uv),
+            Texture::Noise { scale, color } => {
+                let marble = 0.5 * (1.0 + (scale * p.z + 10.0 * turbulence(*scale * p)).sin());
+                return *color * marble;
+            }
+        }
+    }
+    Vec3::ZERO
+}
+
+/// Bilinear lookup with u wrapping around and v clamped; v = 1 is the top row.
+pub fn bilinear(img: &ImageData, uv: Vec2) -> Vec3 {
+    let (w, h) = (img.width as usize, img.height as usize);
+    let u = uv.x.rem_euclid(1.0);
+    let v = 1.0 - uv.y.clamp(0.0, 1.0);
+    let x = (u * w as f32 - 0.5).rem_euclid(w as f32);
+    let y = (v * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
+    let (x0, y0) = (x.floor() as usize % w, y.floor() as usize);
+    let (x1, y1) = ((x0 + 1) % w, (y0 + 1).min(h - 1));
+    let (fx, fy) = (x - x.floor(), y - y.floor());
+    let px = |x: usize, y: usize| img.pixels[y * w + x];
+    let top = px(x0, y0).lerp(px(x1, y0), fx);
+    let bottom = px(x0, y1).lerp(px(x1, y1), fx);
+    top.lerp(bottom, fy)
+}
+
+/// A hash of an integer lattice point to a pseudo-random unit gradient.
+fn gradient(i: i32, j: i32, k: i32) -> Vec3 {
+    let mut h = (i as u32).wrapping_mul(0x8da6_b343)
+        ^ (j as u32).wrapping_mul(0xd816_3841)
+        ^ (k as u32).wrapping_mul(0xcb1a_b31f);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2c1b_3c6d);
+    h ^= h >> 12;
+    let a = (h & 0xffff) as f32 / 65535.0;
+    let b = (h >> 16) as f32 / 65535.0;
+    let z = 1.0 - 2.0 * a;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * b;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Gradient noise in about [−1, 1] with Hermite-smoothed trilinear blending.
+pub fn perlin(p: Vec3) -> f32 {
+    let base = p.floor();
+    let f = p - base;
+    let (i, j, k) = (base.x as i32, base.y as i32, base.z as i32);
+    let s = f * f * (Vec3::splat(3.0) - 2.0 * f);
+    let mut acc = 0.0;
+    for di in 0..2 {
+        for dj in 0..2 {
+            for dk in 0..2 {
+                let corner = Vec3::new(di as f32, dj as f32, dk as f32);
+                let g = gradient(i + di, j + dj, k + dk);
+                let w = Vec3::select(corner.cmpeq(Vec3::ONE), s, Vec3::ONE - s);
+                acc += w.x * w.y * w.z * g.dot(f - corner);
+            }
+        }
+    }
+    acc
+}
+
+/// Sum of |noise| over seven octaves.
+pub fn turbulence(p: Vec3) -> f32 {
+    let (mut acc, mut weight, mut q) = (0.0, 1.0, p);
+    for _ in 0..7 {
+        acc += weight * perlin(q);
+        weight *= 0.5;
+        q *= 2.0;
+    }
+    acc.abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    #[test]
+    fn solid_checker_follows_the_sine_product() {
+        let mut scene = Scene::default();
+        let a = scene.add_texture(Texture::Solid(Vec3::ONE));
+        let b = scene.add_texture(Texture::Solid(Vec3::ZERO));
+        let c = scene.add_texture(Texture::Checker {
+            even: a,
+            odd: b,
+            scale: 10.0,
+            space: CheckerSpace::Solid,
+        });
+        assert_eq!(lookup(&scene, c, Vec2::ZERO, Vec3::splat(0.1)), Vec3::ONE);
+        assert_eq!(
+            lookup(&scene, c, Vec2::ZERO, Vec3::new(-0.1, 0.1, 0.1)),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn bilinear_blends_neighbours_and_wraps_u() {
+        let img = Arc::new(ImageData {
+            width: 2,
+            height: 1,
+            pixels: vec![Vec3::ZERO, Vec3::ONE],
+        });
+        assert_eq!(bilinear(&img, Vec2::new(0.25, 0.5)), Vec3::ZERO);
+        assert_eq!(bilinear(&img, Vec2::new(0.75, 0.5)), Vec3::ONE);
+        assert!((bilinear(&img, Vec2::new(0.5, 0.5)).x - 0.5).abs() < 1e-6);
+        assert!((bilinear(&img, Vec2::new(0.0, 0.5)).x - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn noise_is_bounded_and_varies() {
+        let values: Vec<f32> = (0..1000)
+            .map(|i| perlin(Vec3::splat(i as f32 * 0.137)))
+            .collect();
+        assert!(values.iter().all(|v| v.abs() <= 1.5));
+        assert!(values.iter().any(|v| v.abs() > 0.1));
+    }
+}

@@ -1,0 +1,252 @@
+//! OBJ loading: every shared mesh file, plus small fixtures for n-gons,
+//! negative indices, MTL mapping, missing files and broken input.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use rtlang::scene::mesh::MeshMaterialKind;
+use rtlang::scene::obj::{fuzz_from_shininess, load_obj, ObjError};
+use rtlang::scene::MeshData;
+
+/// `$RTLANG_SHARED` if set, else the `shared/` directory beside the checkout.
+fn shared(rel: &str) -> PathBuf {
+    let root = std::env::var_os("RTLANG_SHARED")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared")));
+    root.join(rel)
+}
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures")).join(name)
+}
+
+fn bounds(mesh: &MeshData) -> (Vec3, Vec3) {
+    let lo = mesh.positions.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
+    let hi = mesh
+        .positions
+        .iter()
+        .fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
+    (lo, hi)
+}
+
+fn assert_indices_valid(mesh: &MeshData) {
+    let n = mesh.positions.len() as u32;
+    assert!(mesh.triangles.iter().flatten().all(|&i| i < n));
+    assert!(mesh.normals.is_empty() || mesh.normals.len() == mesh.positions.len());
+    assert!(mesh.uvs.is_empty() || mesh.uvs.len() == mesh.positions.len());
+    assert!(
+        mesh.triangle_material.is_empty() || mesh.triangle_material.len() == mesh.triangles.len()
+    );
+    let slots = mesh.materials.len().max(1);
+    assert!(mesh.triangle_material.iter().all(|&s| (s as usize) < slots));
+}
+
+#[test]
+fn every_shared_mesh_loads_with_its_triangle_count() {
+    let expected = [
+        ("CornellBox-Original.obj", 36),
+        ("bunny_1k.obj", 1000),
+        ("bunny_200.obj", 200),
+        ("bunny_28k.obj", 27864),
+        ("cottage_obj.obj", 0),
+        ("cube.obj", 12),
+    ];
+    for (name, count) in expected {
+        let loaded = load_obj(&shared(&format!("assets/meshes/{name}")))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_indices_valid(&loaded.mesh);
+        if count > 0 {
+            assert_eq!(loaded.mesh.len(), count, "{name}");
+        } else {
+            assert!(loaded.mesh.len() > 259, "{name}: quads must be split");
+        }
+    }
+}
+
+#[test]
+fn cube_bounds_are_the_unit_cube() {
+    let cube = load_obj(&shared("assets/meshes/cube.obj")).unwrap().mesh;
+    assert_eq!(bounds(&cube), (Vec3::splat(-1.0), Vec3::splat(1.0)));
+    assert!(cube.normals.is_empty() && cube.uvs.is_empty());
+    assert!(cube.materials.is_empty() && cube.triangle_material.is_empty());
+}
+
+#[test]
+fn bunny_28k_has_unit_normals_and_its_stated_height() {
+    let bunny = load_obj(&shared("assets/meshes/bunny_28k.obj"))
+        .unwrap()
+        .mesh;
+    assert_eq!(bunny.normals.len(), bunny.positions.len());
+    assert!(bunny
+        .normals
+        .iter()
+        .all(|n| (n.length() - 1.0).abs() < 1e-3));
+    let (lo, hi) = bounds(&bunny);
+    assert!((lo.y - 0.033).abs() < 0.002, "lowest point {}", lo.y);
+    assert!((hi.y - lo.y - 0.15).abs() < 0.01, "height {}", hi.y - lo.y);
+}
+
+#[test]
+fn cornell_box_maps_its_light_and_walls() {
+    let loaded = load_obj(&shared("assets/meshes/CornellBox-Original.obj")).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let mesh = loaded.mesh;
+    let light = mesh
+        .materials
+        .iter()
+        .position(|m| m.name == "light")
+        .expect("a light slot");
+    assert_eq!(
+        mesh.materials[light].kind,
+        MeshMaterialKind::Light {
+            emit: Vec3::new(17.0, 12.0, 4.0)
+        }
+    );
+    let emitters: Vec<_> = (0..mesh.len())
+        .filter(|&i| mesh.triangle_material[i] as usize == light)
+        .collect();
+    assert_eq!(emitters.len(), 2, "the ceiling light is one quad");
+    for &i in &emitters {
+        let ys = mesh.triangles[i].map(|v| mesh.positions[v as usize].y);
+        assert!(
+            ys.iter().all(|&y| y > 1.5),
+            "the light hangs under the ceiling"
+        );
+    }
+    let left = mesh
+        .materials
+        .iter()
+        .find(|m| m.name == "leftWall")
+        .unwrap();
+    assert_eq!(
+        left.kind,
+        MeshMaterialKind::Diffuse {
+            color: Vec3::new(0.63, 0.065, 0.05),
+            texture: None
+        }
+    );
+}
+
+#[test]
+fn cottage_loads_with_uvs_and_diffuse_materials() {
+    let loaded = load_obj(&shared("assets/meshes/cottage_obj.obj")).unwrap();
+    let mesh = loaded.mesh;
+    assert_eq!(mesh.uvs.len(), mesh.positions.len());
+    assert_eq!(mesh.normals.len(), mesh.positions.len());
+    let names: Vec<_> = mesh.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["cottage_texture", "ground", "light_1"]);
+    // Ks 0.5 under Kd 0.64 with illum 2 is a highlight, not a mirror.
+    assert!(mesh
+        .materials
+        .iter()
+        .all(|m| matches!(m.kind, MeshMaterialKind::Diffuse { .. })));
+    assert_eq!(mesh.triangle_material.len(), mesh.len());
+}
+
+#[test]
+fn quads_and_ngons_with_negative_indices_are_fanned() {
+    let loaded = load_obj(&fixture("ngon_negative.obj")).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let mesh = loaded.mesh;
+    assert_eq!(mesh.len(), 2 + 3);
+    assert_indices_valid(&mesh);
+    let area: f32 = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum();
+    // The unit square plus the pentagon's shoelace area.
+    let pentagon = [(3.0, 0.0), (4.0, 0.0), (4.5, 1.0), (3.5, 2.0), (2.5, 1.0)];
+    let shoelace: f32 = (0..5)
+        .map(|i| {
+            let (x0, y0) = pentagon[i];
+            let (x1, y1) = pentagon[(i + 1) % 5];
+            x0 * y1 - x1 * y0
+        })
+        .sum::<f32>()
+        * 0.5;
+    assert!((area - (1.0 + shoelace)).abs() < 1e-5);
+    // The quad's corner (1, 1) carries uv (1, 1) through negative indices.
+    let corner = mesh
+        .positions
+        .iter()
+        .position(|&p| p == Vec3::new(1.0, 1.0, 0.0))
+        .unwrap();
+    assert_eq!(mesh.uvs[corner], glam::Vec2::ONE);
+    assert_eq!(mesh.normals[corner], Vec3::Z);
+    // The pentagon has no normals in the file: computed ones face +z.
+    let apex = mesh
+        .positions
+        .iter()
+        .position(|&p| p == Vec3::new(3.5, 2.0, 0.0))
+        .unwrap();
+    assert!((mesh.normals[apex] - Vec3::Z).length() < 1e-6);
+    assert_eq!(
+        mesh.materials[mesh.triangle_material[0] as usize].kind,
+        MeshMaterialKind::Dielectric { ior: 1.33 }
+    );
+    assert_eq!(
+        mesh.materials[mesh.triangle_material[4] as usize].kind,
+        MeshMaterialKind::Metal {
+            color: Vec3::new(0.9, 0.8, 0.7),
+            fuzz: fuzz_from_shininess(198.0)
+        }
+    );
+}
+
+#[test]
+fn shininess_maps_to_fuzz_monotonically() {
+    assert_eq!(fuzz_from_shininess(0.0), 1.0);
+    assert!((fuzz_from_shininess(198.0) - 0.1).abs() < 1e-6);
+    assert!(fuzz_from_shininess(1000.0) < fuzz_from_shininess(10.0));
+}
+
+#[test]
+fn missing_texture_is_a_warning_with_a_colour_fallback() {
+    let loaded = load_obj(&fixture("textured.obj")).unwrap();
+    assert_eq!(loaded.warnings.len(), 1);
+    assert!(loaded.warnings[0].contains("no_such_texture.png"));
+    assert_eq!(
+        loaded.mesh.materials[0].kind,
+        MeshMaterialKind::Diffuse {
+            color: Vec3::splat(0.5),
+            texture: None
+        }
+    );
+}
+
+#[test]
+fn missing_mtl_is_a_warning_with_a_grey_fallback() {
+    let loaded = load_obj(&fixture("no_mtl.obj")).unwrap();
+    assert_eq!(loaded.warnings.len(), 1);
+    assert!(loaded.warnings[0].contains("material library"));
+    // No slots: the scene gives the mesh its default material.
+    assert!(loaded.mesh.materials.is_empty());
+}
+
+#[test]
+fn broken_files_are_errors() {
+    assert!(matches!(
+        load_obj(&fixture("empty.obj")),
+        Err(ObjError::Empty { .. })
+    ));
+    assert!(matches!(
+        load_obj(&fixture("nan.obj")),
+        Err(ObjError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        load_obj(&fixture("bad_index.obj")),
+        Err(ObjError::Parse { .. })
+    ));
+    assert!(matches!(
+        load_obj(&fixture("does_not_exist.obj")),
+        Err(ObjError::Io { .. })
+    ));
+    assert!(matches!(
+        load_obj(&fixture("")),
+        Err(ObjError::Io { .. }) | Err(ObjError::Parse { .. })
+    ));
+}
