@@ -43,7 +43,14 @@ fn gen_refuses_an_absurd_size_and_writes_nothing() {
 #[test]
 fn gen_reports_an_unwritable_path() {
     let output = rtlang()
-        .args(["gen", "bunny", "--cell", "2", "-o", "/nonexistent-dir/x.obj"])
+        .args([
+            "gen",
+            "bunny",
+            "--cell",
+            "2",
+            "-o",
+            "/nonexistent-dir/x.obj",
+        ])
         .output()
         .expect("runs");
     assert!(!output.status.success());

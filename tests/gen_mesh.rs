@@ -73,10 +73,19 @@ fn polygonised_sphere_is_closed_outward_and_accurate() {
     assert_closed_and_oriented(&mesh);
     let exact = 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
     let volume = signed_volume(&mesh);
-    assert!((volume - exact).abs() / exact < 0.02, "volume {volume} vs {exact}");
+    assert!(
+        (volume - exact).abs() / exact < 0.02,
+        "volume {volume} vs {exact}"
+    );
     for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
-        assert!((p.length() as f64 - r).abs() < 0.01, "vertex off the sphere: {p}");
-        assert!(n.dot(p.normalize()) > 0.999, "normal {n} at {p} is not radial");
+        assert!(
+            (p.length() as f64 - r).abs() < 0.01,
+            "vertex off the sphere: {p}"
+        );
+        assert!(
+            n.dot(p.normalize()) > 0.999,
+            "normal {n} at {p} is not radial"
+        );
     }
 }
 
@@ -99,7 +108,10 @@ fn critter_is_a_closed_genus_zero_surface_with_outward_normals() {
         assert!((n.length() - 1.0).abs() < 1e-5, "normal {n} is not unit");
     }
     let agree = agreeing_fraction(&mesh);
-    assert!(agree > 0.99, "only {agree} of faces agree with their normals");
+    assert!(
+        agree > 0.99,
+        "only {agree} of faces agree with their normals"
+    );
 }
 
 #[test]
@@ -110,7 +122,11 @@ fn critter_sits_in_the_stored_bunnys_frame() {
         |(a, b), &p| (a.min(p), b.max(p)),
     );
     assert!((min.y - FLOOR).abs() < 1e-5, "lowest point {}", min.y);
-    assert!((max.y - min.y - HEIGHT).abs() < 1e-5, "height {}", max.y - min.y);
+    assert!(
+        (max.y - min.y - HEIGHT).abs() < 1e-5,
+        "height {}",
+        max.y - min.y
+    );
     // Facing −x like the stored bunny: the ears (top 10 %) lean to the −x side.
     let top: Vec<Vec3> = mesh
         .positions
@@ -133,8 +149,9 @@ fn critter_is_deterministic_and_matches_the_committed_obj() {
     ];
     let text = obj_text(&a, &header);
     assert!(text.len() < 2 << 20, "OBJ is {} bytes", text.len());
-    let stored = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/critter.obj"))
-        .expect("committed mesh");
+    let stored =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/critter.obj"))
+            .expect("committed mesh");
     assert!(
         stored == text,
         "meshes/critter.obj differs from `rtlang gen bunny`'s output: regenerate it (docs/assets.md)"

@@ -83,9 +83,21 @@ fn porcelain_is_mostly_ivory_glaze_with_coloured_motifs() {
     let c = porcelain(PorcelainOptions::default());
     let n = c.pixels.len() as f64;
     let glaze = c.pixels.iter().filter(|p| p.min_element() > 0.85).count() as f64;
-    let pink = c.pixels.iter().filter(|p| p.x > p.y + 0.15 && p.x > p.z).count() as f64;
-    let green = c.pixels.iter().filter(|p| p.y > p.x + 0.08 && p.y > p.z).count() as f64;
-    let blue = c.pixels.iter().filter(|p| p.z > p.x + 0.15 && p.z > p.y).count() as f64;
+    let pink = c
+        .pixels
+        .iter()
+        .filter(|p| p.x > p.y + 0.15 && p.x > p.z)
+        .count() as f64;
+    let green = c
+        .pixels
+        .iter()
+        .filter(|p| p.y > p.x + 0.08 && p.y > p.z)
+        .count() as f64;
+    let blue = c
+        .pixels
+        .iter()
+        .filter(|p| p.z > p.x + 0.15 && p.z > p.y)
+        .count() as f64;
     assert!(glaze / n > 0.6, "glaze fraction {}", glaze / n);
     for (name, count) in [("pink", pink), ("green", green), ("blue", blue)] {
         assert!(count / n > 0.005, "{name} fraction {}", count / n);
@@ -96,10 +108,22 @@ fn porcelain_is_mostly_ivory_glaze_with_coloured_motifs() {
 fn earth_has_oceans_land_and_polar_ice() {
     let c = earth(EarthOptions::default());
     let n = c.pixels.len() as f64;
-    let ocean = c.pixels.iter().filter(|p| p.z > p.x + 0.2 && p.z > p.y).count() as f64;
+    let ocean = c
+        .pixels
+        .iter()
+        .filter(|p| p.z > p.x + 0.2 && p.z > p.y)
+        .count() as f64;
     let land = c.pixels.iter().filter(|p| p.z < p.y && p.z < 0.5).count() as f64;
-    assert!((0.45..0.8).contains(&(ocean / n)), "ocean fraction {}", ocean / n);
-    assert!((0.15..0.45).contains(&(land / n)), "land fraction {}", land / n);
+    assert!(
+        (0.45..0.8).contains(&(ocean / n)),
+        "ocean fraction {}",
+        ocean / n
+    );
+    assert!(
+        (0.15..0.45).contains(&(land / n)),
+        "land fraction {}",
+        land / n
+    );
     let top_row_ice = c.pixels[..c.width as usize]
         .iter()
         .all(|p| p.min_element() > 0.85);
@@ -111,7 +135,10 @@ fn earth_has_oceans_land_and_polar_ice() {
 fn committed_textures_are_what_the_documented_commands_write() {
     let root = env!("CARGO_MANIFEST_DIR");
     for (file, canvas) in [
-        ("textures/porcelain.png", porcelain(PorcelainOptions::default())),
+        (
+            "textures/porcelain.png",
+            porcelain(PorcelainOptions::default()),
+        ),
         ("textures/planet.png", earth(EarthOptions::default())),
     ] {
         let stored = std::fs::read(format!("{root}/{file}")).expect("committed texture");

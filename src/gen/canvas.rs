@@ -76,11 +76,17 @@ impl Canvas {
     pub fn ellipse(&mut self, c: DVec2, a: f64, b: f64, angle: f64, color: DVec3, alpha: f64) {
         let axis = DVec2::from_angle(angle);
         let r = a.max(b) + 1.0;
-        self.fill(c - DVec2::splat(r), c + DVec2::splat(r), color, alpha, |p| {
-            let d = (p - c).rotate(DVec2::new(axis.x, -axis.y));
-            let k = (d / DVec2::new(a, b)).length();
-            (k - 1.0) * a.min(b)
-        });
+        self.fill(
+            c - DVec2::splat(r),
+            c + DVec2::splat(r),
+            color,
+            alpha,
+            |p| {
+                let d = (p - c).rotate(DVec2::new(axis.x, -axis.y));
+                let k = (d / DVec2::new(a, b)).length();
+                (k - 1.0) * a.min(b)
+            },
+        );
     }
 
     /// A stroke from `p0` to `p1` with rounded ends and half-width `r`.
@@ -93,6 +99,13 @@ impl Canvas {
             let t = ((p - p0).dot(dir) / len2).clamp(0.0, 1.0);
             (p - (p0 + dir * t)).length() - r
         });
+    }
+
+    /// Turns the image upside down.
+    pub fn flip_vertically(&mut self) {
+        let w = self.width as usize;
+        let rows: Vec<DVec3> = self.pixels.chunks(w).rev().flatten().copied().collect();
+        self.pixels = rows;
     }
 
     /// The image as 8-bit sRGB bytes, row-major.

@@ -124,14 +124,16 @@ pub fn critter(opts: CritterOptions) -> MeshData {
     let lo = DVec3::new(-12.0, 1.5, -7.5);
     let hi = DVec3::new(11.5, 22.0, 7.5);
     let mut mesh = polygonise(&field, lo, hi, opts.cell);
-    let (min, max) = mesh
-        .positions
-        .iter()
-        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(a, b), &p| {
-            (a.min(p), b.max(p))
-        });
+    let (min, max) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(a, b), &p| (a.min(p), b.max(p)),
+    );
     let s = HEIGHT / (max.y - min.y).max(f32::EPSILON);
     let centre_x = (min.x + max.x) * 0.5;
-    scale_translate(&mut mesh, s, Vec3::new(-0.017 - centre_x * s, FLOOR - min.y * s, 0.0));
+    scale_translate(
+        &mut mesh,
+        s,
+        Vec3::new(-0.017 - centre_x * s, FLOOR - min.y * s, 0.0),
+    );
     mesh
 }

@@ -18,12 +18,7 @@ pub trait Field {
     /// The outward unit normal: the normalised central-difference gradient.
     fn normal(&self, p: DVec3, h: f64) -> DVec3 {
         let d = |e: DVec3| self.value(p + e) - self.value(p - e);
-        DVec3::new(
-            d(DVec3::X * h),
-            d(DVec3::Y * h),
-            d(DVec3::Z * h),
-        )
-        .normalize_or(DVec3::Y)
+        DVec3::new(d(DVec3::X * h), d(DVec3::Y * h), d(DVec3::Z * h)).normalize_or(DVec3::Y)
     }
 }
 
@@ -130,7 +125,10 @@ impl<F: Field> Builder<'_, F> {
             3 => vec![outside[0], inside[0], inside[1], inside[2]],
             _ => vec![inside[0], inside[1], outside[0], outside[1]],
         };
-        let p = order.iter().map(|&i| self.grid.position(v[i])).collect::<Vec<_>>();
+        let p = order
+            .iter()
+            .map(|&i| self.grid.position(v[i]))
+            .collect::<Vec<_>>();
         let positive = (p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0])) > 0.0;
         let w = order.iter().map(|&i| v[i]).collect::<Vec<_>>();
         match inside.len() {

@@ -3,7 +3,9 @@
 //! and pink. It stands in for the seed's floral `bottle.jpg` and is meant to
 //! wrap around a vase as (angle, curve parameter) uv, so it is seamless in u
 //! and its motifs are pre-squeezed in x (the vase's girth is about twice its
-//! profile length, so the texture is stretched about 2:1 on it).
+//! profile length, so the texture is stretched about 2:1 on it). The image
+//! is stored upside down — row 0 is the foot — because the vase's curve
+//! parameter is 0 at the rim and image lookup puts v = 0 on the bottom row.
 
 use std::f64::consts::TAU;
 
@@ -46,9 +48,7 @@ const GOLD: DVec3 = DVec3::new(0.90, 0.78, 0.45);
 /// Paints the porcelain texture.
 pub fn porcelain(opts: PorcelainOptions) -> Canvas {
     let seed = opts.seed;
-    let mut canvas = Canvas::from_fn(opts.width, opts.height, X_SCALE, |u, v| {
-        glaze(seed, u, v)
-    });
+    let mut canvas = Canvas::from_fn(opts.width, opts.height, X_SCALE, |u, v| glaze(seed, u, v));
     let mut rng = Rng::new(seed);
     let design = DVec2::new(opts.width as f64 * X_SCALE, opts.height as f64);
     let unit = design.y / 512.0;
@@ -56,7 +56,12 @@ pub fn porcelain(opts: PorcelainOptions) -> Canvas {
     let branches = 5;
     for i in 0..branches {
         let x = design.x * (i as f64 + rng.range(0.1, 0.9)) / branches as f64;
-        grass(&mut canvas, &mut rng, DVec2::new(x + 60.0 * unit, design.y * 0.97), unit);
+        grass(
+            &mut canvas,
+            &mut rng,
+            DVec2::new(x + 60.0 * unit, design.y * 0.97),
+            unit,
+        );
         let start = DVec2::new(x, design.y * 0.98);
         let heading = -std::f64::consts::FRAC_PI_2 + rng.range(-0.3, 0.3);
         branch(&mut canvas, &mut rng, start, heading, 5.0 * unit, 0, unit);
@@ -65,6 +70,7 @@ pub fn porcelain(opts: PorcelainOptions) -> Canvas {
         let c = DVec2::new(rng.range(0.0, design.x), rng.range(0.12, 0.75) * design.y);
         butterfly(&mut canvas, &mut rng, c, unit);
     }
+    canvas.flip_vertically();
     canvas
 }
 
@@ -198,5 +204,11 @@ fn butterfly(canvas: &mut Canvas, rng: &mut Rng, c: DVec2, unit: f64) {
         canvas.ellipse(lower, 17.0 * s, 9.0 * s, lower_angle, BLUE_DARK, 0.75);
         canvas.ellipse(lower, 14.5 * s, 7.0 * s, lower_angle, BLUE, 0.8);
     }
-    canvas.segment(c - axis * 14.0 * s, c + axis * 16.0 * s, 2.2 * s, BLUE_DARK, 1.0);
+    canvas.segment(
+        c - axis * 14.0 * s,
+        c + axis * 16.0 * s,
+        2.2 * s,
+        BLUE_DARK,
+        1.0,
+    );
 }

@@ -15,7 +15,11 @@ pub fn hash3(seed: u64, x: i64, y: i64, z: i64) -> f64 {
     let h = mix64(
         seed ^ mix64((x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15))
             ^ mix64((y as u64).wrapping_add(0x632b_e59b_d9b4_e019))
-            ^ mix64((z as u64).wrapping_mul(0xd6e8_feb8_6659_fd93).wrapping_add(1)),
+            ^ mix64(
+                (z as u64)
+                    .wrapping_mul(0xd6e8_feb8_6659_fd93)
+                    .wrapping_add(1),
+            ),
     );
     unit(h)
 }
@@ -35,7 +39,7 @@ impl Rng {
     /// A stream started from `seed`.
     pub fn new(seed: u64) -> Rng {
         Rng {
-            state: mix64(seed ^ 0x5eed_0f_a55e7),
+            state: mix64(seed ^ 0x05ee_d0fa_55e7),
         }
     }
 
