@@ -128,7 +128,6 @@ fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
 
 /// Turns pest's error into a diagnostic with words a user understands.
 fn syntax_error(error: pest::error::Error<Rule>, file: u32) -> Diagnostic {
-    let error = error.renamed_rules(|rule| rule_name(*rule).to_string());
     let (start, end) = match error.location {
         pest::error::InputLocation::Pos(p) => (p, p),
         pest::error::InputLocation::Span((s, e)) => (s, e),
@@ -190,6 +189,16 @@ fn rule_name(rule: Rule) -> &'static str {
         Rule::boolean => "`true` or `false`",
         Rule::hex_color => "a colour `#rrggbb`",
         Rule::kw_x => "`x`",
+        Rule::kw_translate
+        | Rule::kw_rotate
+        | Rule::kw_scale
+        | Rule::kw_matrix
+        | Rule::kw_motion => "a transform",
+        Rule::kw_place | Rule::kw_size | Rule::kw_shutter | Rule::kw_mode => "a property",
+        Rule::kw_rect | Rule::kw_mesh | Rule::kw_revolve | Rule::kw_repeat => "an object",
+        Rule::kw_let | Rule::kw_param | Rule::kw_include | Rule::kw_render | Rule::kw_camera => {
+            "a statement"
+        }
         Rule::mode_name => "`mesh` or `analytic`",
         Rule::kw_in => "`in`",
         _ => "a keyword",
