@@ -189,6 +189,8 @@ fn rule_name(rule: Rule) -> &'static str {
         Rule::boolean => "`true` or `false`",
         Rule::hex_color => "a colour `#rrggbb`",
         Rule::kw_x => "`x`",
+        Rule::stmt_keyword => "a property",
+        Rule::prim_keyword => "a name",
         Rule::kw_translate
         | Rule::kw_rotate
         | Rule::kw_scale
