@@ -7,11 +7,15 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rtlang::lang::{self, Options};
 
 fn generated_scene(objects: usize) -> String {
-    let mut text = String::from("let m = lambertian(rgb(0.5, 0.5, 0.5))\nlet glass = dielectric(1.5)\n");
+    let mut text =
+        String::from("let m = lambertian(rgb(0.5, 0.5, 0.5))\nlet glass = dielectric(1.5)\n");
     for i in 0..objects {
         let (x, z) = ((i % 316) as f64 * 0.7, (i / 316) as f64 * 0.7);
         let material = if i % 7 == 0 { "glass" } else { "m" };
-        let _ = writeln!(text, "sphere {{ center ({x}, 0.2, {z}) radius 0.2 material {material} }}");
+        let _ = writeln!(
+            text,
+            "sphere {{ center ({x}, 0.2, {z}) radius 0.2 material {material} }}"
+        );
     }
     text
 }

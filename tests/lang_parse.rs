@@ -9,7 +9,9 @@ use rtlang::lang::{parse_to_canonical, pretty, syntax};
 fn scene_files() -> Vec<PathBuf> {
     let mut files = Vec::new();
     for dir in ["scenes", "tests/scenes", "tests/scenes/parts"] {
-        let Ok(entries) = std::fs::read_dir(dir) else { continue };
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            continue;
+        };
         files.extend(
             entries
                 .filter_map(|e| e.ok().map(|e| e.path()))
@@ -31,8 +33,17 @@ fn every_scene_parses_to_a_stable_canonical_form() {
         };
         let (again, problems) = syntax::parse_file(&canonical, 0).expect("canonical source parses");
         assert!(problems.is_empty());
-        assert_eq!(pretty::file(&again), canonical, "{} is not a fixed point", path.display());
-        let name = path.to_string_lossy().replace(['/', '\\'], "__").trim_end_matches(".rt").to_string();
+        assert_eq!(
+            pretty::file(&again),
+            canonical,
+            "{} is not a fixed point",
+            path.display()
+        );
+        let name = path
+            .to_string_lossy()
+            .replace(['/', '\\'], "__")
+            .trim_end_matches(".rt")
+            .to_string();
         insta::assert_snapshot!(format!("parse_{name}"), canonical);
     }
 }
