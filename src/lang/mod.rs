@@ -90,6 +90,6 @@ pub fn parse_to_canonical(path: &Path) -> Result<String, (Vec<Diagnostic>, Sourc
     match syntax::parse_file(&text, file) {
         Ok((ast, problems)) if problems.is_empty() => Ok(pretty::file(&ast)),
         Ok((_, problems)) => Err((problems, sources)),
-        Err(d) => Err((vec![d], sources)),
+        Err(d) => Err((vec![*d], sources)),
     }
 }

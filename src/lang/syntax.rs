@@ -30,9 +30,9 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
 
 /// Parses a whole file. On a syntax error returns its diagnostic; lowering
 /// problems (bad escapes, too-deep expressions) are returned alongside the tree.
-pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Diagnostic> {
+pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<Diagnostic>> {
     check_nesting(text, file)?;
-    let pairs = Grammar::parse(Rule::file, text).map_err(|e| syntax_error(e, file))?;
+    let pairs = Grammar::parse(Rule::file, text).map_err(|e| Box::new(syntax_error(e, file)))?;
     let mut lower = Lower {
         file,
         diagnostics: Vec::new(),
@@ -60,7 +60,7 @@ pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
 
 /// Refuses files whose brackets nest deeper than [`MAX_NESTING`], before the
 /// recursive-descent parser sees them.
-fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
+fn check_nesting(text: &str, file: u32) -> Result<(), Box<Diagnostic>> {
     let bytes = text.as_bytes();
     let mut depth = 0usize;
     let mut pow_run = 0usize;
@@ -95,7 +95,8 @@ fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
                         format!("brackets nest more than {MAX_NESTING} deep"),
                     )
                     .label("this bracket is too deep")
-                    .help("flatten the expression with `let` definitions"));
+                    .help("flatten the expression with `let` definitions")
+                    .into());
                 }
             }
             b')' | b']' | b'}' => depth = depth.saturating_sub(1),
@@ -119,7 +120,8 @@ fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
                 format!("more than {MAX_EXPR_DEPTH} chained `^` or `-` operators"),
             )
             .label("too deep")
-            .help("split the expression into several `let` definitions"));
+            .help("split the expression into several `let` definitions")
+            .into());
         }
         i += 1;
     }
@@ -128,7 +130,6 @@ fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
 
 /// Turns pest's error into a diagnostic with words a user understands.
 fn syntax_error(error: pest::error::Error<Rule>, file: u32) -> Diagnostic {
-    let error = error.renamed_rules(|rule| rule_name(*rule).to_string());
     let (start, end) = match error.location {
         pest::error::InputLocation::Pos(p) => (p, p),
         pest::error::InputLocation::Span((s, e)) => (s, e),
@@ -190,6 +191,18 @@ fn rule_name(rule: Rule) -> &'static str {
         Rule::boolean => "`true` or `false`",
         Rule::hex_color => "a colour `#rrggbb`",
         Rule::kw_x => "`x`",
+        Rule::stmt_keyword => "a property",
+        Rule::prim_keyword => "a name",
+        Rule::kw_translate
+        | Rule::kw_rotate
+        | Rule::kw_scale
+        | Rule::kw_matrix
+        | Rule::kw_motion => "a transform",
+        Rule::kw_place | Rule::kw_size | Rule::kw_shutter | Rule::kw_mode => "a property",
+        Rule::kw_rect | Rule::kw_mesh | Rule::kw_revolve | Rule::kw_repeat => "an object",
+        Rule::kw_let | Rule::kw_param | Rule::kw_include | Rule::kw_render | Rule::kw_camera => {
+            "a statement"
+        }
         Rule::mode_name => "`mesh` or `analytic`",
         Rule::kw_in => "`in`",
         _ => "a keyword",

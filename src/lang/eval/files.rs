@@ -80,7 +80,7 @@ impl Evaluator {
         let (ast, problems) = match syntax::parse_file(&text, file) {
             Ok(parsed) => parsed,
             Err(d) => {
-                self.report(d);
+                self.report(*d);
                 return;
             }
         };

@@ -1,0 +1,32 @@
+//! Every ```rt example in docs/language.md checks clean.
+
+use rtlang::lang::{self, diagnostics::render_plain, Options};
+
+#[test]
+fn every_documented_example_is_clean() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    let blocks: Vec<&str> = doc
+        .split("```rt\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .collect();
+    assert!(blocks.len() >= 7, "only {} examples", blocks.len());
+    let dir = std::env::temp_dir().join(format!("rtlang-docs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    for (i, block) in blocks.iter().enumerate() {
+        let path = dir.join(format!("example_{i}.rt"));
+        std::fs::write(&path, block).expect("write the example");
+        let outcome = lang::check(&path, &Options::default());
+        let shown: Vec<String> = outcome
+            .diagnostics
+            .iter()
+            .map(|d| render_plain(&d.to_report(&outcome.sources), 90))
+            .collect();
+        assert!(
+            outcome.diagnostics.is_empty(),
+            "example {i}:\n{block}\n{}",
+            shown.join("\n")
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
