@@ -23,8 +23,8 @@ pub enum RevolutionMode {
     /// around the axis.
     Mesh { resolution: u32 },
     /// Newton iteration on (curve parameter, ray distance), started from hits
-    /// on inner and outer bounding meshes of `resolution`, converged to
-    /// `tolerance` (scene units).
+    /// on inner and outer bounding shells of `resolution` pieces, converged
+    /// to `tolerance`, a fraction of the profile's size.
     Analytic { resolution: u32, tolerance: f32 },
 }
 

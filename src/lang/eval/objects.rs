@@ -334,10 +334,10 @@ impl Evaluator {
         });
         let tolerance = self.prop_num(b, "tolerance", 1e-4).and_then(|(t, s)| {
             self.range(
-                t > 0.0,
+                t > 0.0 && t <= 0.1,
                 s,
-                format!("the tolerance must be positive, not {t}"),
-                "the Newton tolerance is in scene units, e.g. 1e-4",
+                format!("the tolerance must be in (0, 0.1], not {t}"),
+                "the Newton tolerance is a fraction of the profile's size, e.g. 1e-4",
             )?;
             Ok(t)
         });
