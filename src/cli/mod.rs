@@ -4,6 +4,7 @@
 mod check;
 mod compare;
 mod gen;
+mod inspect;
 mod parse;
 mod render;
 
@@ -29,6 +30,8 @@ enum Command {
     Parse(parse::ParseArgs),
     /// Compare two images: RMSE, relative MSE and PSNR.
     Compare(compare::CompareArgs),
+    /// Summarise what the loader makes of an OBJ mesh file.
+    Inspect(inspect::InspectArgs),
     /// Generate the project's procedural assets (textures, meshes).
     Gen(gen::GenArgs),
 }
@@ -42,6 +45,7 @@ pub fn run() -> ExitCode {
         Command::Parse(args) => parse::run(args),
         Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
+        Command::Inspect(args) => inspect::run(args),
     }
 }
 

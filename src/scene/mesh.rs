@@ -5,8 +5,6 @@
 
 use glam::{Vec2, Vec3};
 
-
-
 /// An indexed triangle mesh. `normals` and `uvs` are either empty or as long
 /// as `positions`, indexed by the same triangle indices.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -34,10 +32,20 @@ pub struct MeshMaterial {
 /// What an MTL entry maps to.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshMaterialKind {
-    Diffuse { color: Vec3, texture: Option<std::path::PathBuf> },
-    Metal { color: Vec3, fuzz: f32 },
-    Dielectric { ior: f32 },
-    Light { emit: Vec3 },
+    Diffuse {
+        color: Vec3,
+        texture: Option<std::path::PathBuf>,
+    },
+    Metal {
+        color: Vec3,
+        fuzz: f32,
+    },
+    Dielectric {
+        ior: f32,
+    },
+    Light {
+        emit: Vec3,
+    },
 }
 
 impl MeshMaterialKind {
@@ -62,3 +70,15 @@ impl MeshData {
     }
 }
 
+impl MeshData {
+    /// The smallest and largest corner of the box around every vertex, or
+    /// `None` for a mesh without vertices.
+    pub fn bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        let first = *self.positions.first()?;
+        Some(
+            self.positions
+                .iter()
+                .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
+        )
+    }
+}
