@@ -8,15 +8,17 @@ use std::sync::Arc;
 use glam::Mat4;
 
 use super::group::Group;
-use super::instance::{Instance, Placement, StaticTransform};
+use super::instance::{is_bounded, Instance, Placement, StaticTransform};
 use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
 use super::primitives::{Primitive, PrimitiveSet};
 use super::revolution::{tessellate, RevolutionSurface};
 use super::shapes::{Cuboid, Plane, Rect, Sphere, Triangle};
+use super::sweep::swept_bounds;
 use super::{Hit, Ray};
 use crate::render::rng::Rng;
+use crate::scene::motion::CompiledMotion;
 use crate::scene::object::RevolutionMode;
 use crate::scene::{MaterialId, Node, ProtoId, Scene, Shape};
 
@@ -81,7 +83,7 @@ struct Builder<'a> {
 
 impl Builder<'_> {
     fn placed(&self, geometry: Geometry, placement: Placement) -> Instance {
-        Instance::new(Arc::new(geometry), placement, self.shutter)
+        Instance::new(Arc::new(geometry), placement)
     }
 
     /// One instance holding `nodes`, in the current space.
@@ -135,12 +137,21 @@ impl Builder<'_> {
             }
             Node::Motion { motion, child } => {
                 let inner = self.instance(std::iter::once(&**child))?;
-                let geometry = self.unplaced(inner);
-                items.push(Instance::new(
-                    geometry,
-                    Placement::Moving(Arc::new(motion.clone())),
-                    self.shutter,
-                ));
+                let compiled = CompiledMotion::new(motion);
+                // A motion that does not depend on time is a static transform
+                // and costs nothing per ray.
+                if let Some(matrix) = compiled.fixed() {
+                    items.push(self.transform(matrix, inner)?);
+                } else {
+                    let geometry = self.unplaced(inner);
+                    let bounds = geometry.bounds();
+                    let swept = if is_bounded(&bounds) {
+                        swept_bounds(motion, &bounds, self.shutter.0, self.shutter.1)
+                    } else {
+                        bounds
+                    };
+                    items.push(Instance::moving(geometry, Arc::new(compiled), swept));
+                }
             }
             Node::Medium {
                 boundary,
@@ -219,18 +230,13 @@ impl Builder<'_> {
             Placement::Moving(_) => {
                 let geometry = self.unplaced(inner);
                 let s = StaticTransform::new(m).ok_or(BuildError::SingularMatrix(m))?;
-                return Ok(Instance::new(
-                    geometry,
-                    Placement::Static(Box::new(s)),
-                    self.shutter,
-                ));
+                return Ok(Instance::new(geometry, Placement::Static(Box::new(s))));
             }
         };
         let s = StaticTransform::new(composed).ok_or(BuildError::SingularMatrix(m))?;
         Ok(Instance::new(
             inner.geometry,
             Placement::Static(Box::new(s)),
-            self.shutter,
         ))
     }
 

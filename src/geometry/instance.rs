@@ -7,10 +7,9 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3A, Mat4};
 
 use super::object::Geometry;
-use super::sweep::swept_bounds;
 use super::{Aabb, Hit, Ray};
 use crate::render::rng::Rng;
-use crate::scene::Motion;
+use crate::scene::motion::CompiledMotion;
 
 /// A fixed object-to-parent transform with what intersection needs cached.
 #[derive(Clone, Debug)]
@@ -38,12 +37,30 @@ impl StaticTransform {
     }
 }
 
+impl StaticTransform {
+    /// From a matrix and its inverse computed together (by a compiled
+    /// motion), without a general inversion; `None` if either is not finite.
+    #[inline]
+    pub fn from_pair((m, inverse): (Mat4, Mat4)) -> Option<StaticTransform> {
+        if !m.is_finite() || !inverse.is_finite() {
+            return None;
+        }
+        let to_object = Affine3A::from_mat4(inverse);
+        Some(StaticTransform {
+            to_parent: Affine3A::from_mat4(m),
+            to_object,
+            normal: to_object.matrix3.transpose(),
+        })
+    }
+}
+
 /// How an instance is placed.
 #[derive(Clone)]
 pub enum Placement {
     Identity,
     Static(Box<StaticTransform>),
-    Moving(Arc<Motion>),
+    /// A motion compiled once at build time; evaluated per ray.
+    Moving(Arc<CompiledMotion>),
 }
 
 /// Shared geometry and its placement, with the bounds in the parent space.
@@ -60,22 +77,28 @@ pub fn is_bounded(b: &Aabb) -> bool {
 }
 
 impl Instance {
-    /// Places `geometry`; `shutter` bounds the times a moving one is seen at.
-    pub fn new(geometry: Arc<Geometry>, placement: Placement, shutter: (f32, f32)) -> Instance {
+    /// Places `geometry` as is or by a fixed transform.
+    pub fn new(geometry: Arc<Geometry>, placement: Placement) -> Instance {
         let local = geometry.bounds();
-        let bounds = if !is_bounded(&local) {
-            local
-        } else {
-            match &placement {
-                Placement::Identity => local,
-                Placement::Static(s) => local.transformed(&Mat4::from(s.to_parent)),
-                Placement::Moving(m) => swept_bounds(m, &local, shutter.0, shutter.1),
+        let bounds = match &placement {
+            Placement::Static(s) if is_bounded(&local) => {
+                local.transformed(&Mat4::from(s.to_parent))
             }
+            _ => local,
         };
         Instance {
             geometry,
             placement,
             bounds,
+        }
+    }
+
+    /// Places `geometry` by a motion; `swept` bounds it over the shutter.
+    pub fn moving(geometry: Arc<Geometry>, motion: Arc<CompiledMotion>, swept: Aabb) -> Instance {
+        Instance {
+            geometry,
+            placement: Placement::Moving(motion),
+            bounds: swept,
         }
     }
 
@@ -86,7 +109,7 @@ impl Instance {
             Placement::Identity => self.geometry.intersect(ray, t_min, t_max, rng),
             Placement::Static(s) => self.transformed(ray, s, t_min, t_max, rng),
             Placement::Moving(motion) => {
-                let s = StaticTransform::new(motion.matrix_at(ray.time))?;
+                let s = StaticTransform::from_pair(motion.matrices_at(ray.time))?;
                 self.transformed(ray, &s, t_min, t_max, rng)
             }
         }
