@@ -2,7 +2,9 @@
 //! block that folds to the identity, and with a genuinely time-dependent
 //! motion that moves nothing (x = 0·t).
 //!
-//! `cargo bench --bench static_motion`
+//! `cargo bench --bench static_motion` (wall time). The same three scenes
+//! are in benches/scenes/motion_cost_*.rt for instruction counts under
+//! callgrind, which do not depend on the machine's load.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rtlang::geometry::World;

@@ -136,8 +136,11 @@ impl Builder<'_> {
                 items.push(self.transform(*matrix, inner)?);
             }
             Node::Motion { motion, child } => {
-                let inner = self.instance(std::iter::once(&**child))?;
                 let compiled = CompiledMotion::new(motion);
+                if compiled.is_identity() {
+                    return self.collect(child, prims, items);
+                }
+                let inner = self.instance(std::iter::once(&**child))?;
                 // A motion that does not depend on time is a static transform
                 // and costs nothing per ray.
                 if let Some(matrix) = compiled.fixed() {
@@ -222,8 +225,11 @@ impl Builder<'_> {
     }
 
     /// Places `inner` by `m` after its own placement, composing static
-    /// matrices into one.
+    /// matrices into one; the identity leaves it as it is.
     fn transform(&self, m: Mat4, inner: Instance) -> Result<Instance, BuildError> {
+        if m == Mat4::IDENTITY {
+            return Ok(inner);
+        }
         let composed = match &inner.placement {
             Placement::Identity => m,
             Placement::Static(s) => m * Mat4::from(s.to_parent),
