@@ -168,3 +168,48 @@ fn motion_keeps_only_the_time_dependent_part() {
     assert_eq!(*axis, Vec3::Y);
     assert_eq!(degrees.keys, [(0.0, 0.0), (1.0, 90.0)]);
 }
+
+/// Every sphere (centre, radius) under `node`, in order.
+fn spheres(node: &Node, out: &mut Vec<(Vec3, f32)>) {
+    match node {
+        Node::Shape {
+            shape: Shape::Sphere { center, radius },
+            ..
+        } => out.push((*center, *radius)),
+        Node::Group(children) => children.iter().for_each(|c| spheres(c, out)),
+        Node::Transform { child, .. } | Node::Motion { child, .. } => spheres(child, out),
+        _ => {}
+    }
+}
+
+#[test]
+fn if_chooses_objects_and_values() {
+    let mut found = Vec::new();
+    for node in &scene("conditions.rt", &[]).objects {
+        spheres(node, &mut found);
+    }
+    let expected = [
+        (Vec3::new(0.0, 0.0, 0.0), 0.5),
+        (Vec3::new(1.0, 1.0, 0.0), 0.25),
+        (Vec3::new(2.0, 1.0, 0.0), 0.25),
+        (Vec3::new(4.0, 0.0, 0.0), 0.5),
+        (Vec3::new(5.0, 1.0, 0.0), 0.25),
+    ];
+    assert_eq!(found, expected);
+    let small = scene("conditions.rt", &[("big", "false")]);
+    let mut found = Vec::new();
+    spheres(&small.objects[0], &mut found);
+    assert_eq!(found[0].1, 0.1);
+}
+
+#[test]
+fn a_condition_must_be_a_boolean() {
+    let dir = std::env::temp_dir().join("rtlang-if-test");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("bad_if.rt");
+    std::fs::write(&path, "let r = if 1 then 2 else 3\nlet s = 1 < true\nsphere { radius r + s material lambertian(rgb(1, 1, 1)) }\n")
+        .expect("write the scene");
+    let outcome = lang::check(&path, &Options::default());
+    let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["rtlang::type", "rtlang::type"]);
+}

@@ -33,6 +33,12 @@ impl Evaluator {
         match stmt {
             Stmt::Object(o) => self.object(o).map(Some),
             Stmt::Place { name, body, .. } => self.place(name, body).map(Some),
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                ..
+            } => self.if_stmt(cond, then, otherwise),
             other => {
                 let span = match other {
                     Stmt::Property { span, .. }
@@ -40,7 +46,9 @@ impl Evaluator {
                     | Stmt::Shutter { span, .. } => *span,
                     Stmt::Motion { span, .. } => *span,
                     Stmt::Transform(t) => t.span,
-                    Stmt::Object(_) | Stmt::Place { .. } => unreachable!("handled above"),
+                    Stmt::Object(_) | Stmt::Place { .. } | Stmt::If { .. } => {
+                        unreachable!("handled above")
+                    }
                 };
                 Err(self.report(
                     Diagnostic::error("rtlang::misplaced", span, "this belongs inside a block")
@@ -110,6 +118,26 @@ impl Evaluator {
         };
         let transformed = self.apply_transforms(&block.transforms);
         Ok(transformed?.wrap(node?))
+    }
+
+    /// `if COND { ... } else { ... }`: the objects of the branch taken (the
+    /// other branch is not evaluated); nothing when that branch is empty.
+    fn if_stmt(
+        &mut self,
+        cond: &crate::lang::ast::Expr,
+        then: &[Stmt],
+        otherwise: &[Stmt],
+    ) -> Eval<Option<Node>> {
+        let v = self.expr(cond)?;
+        let branch = if self.condition(&v, cond.span)? {
+            then
+        } else {
+            otherwise
+        };
+        let allow = allow("if", &[], true);
+        let block = self.block(branch, &Allow { transforms: false, ..allow });
+        let nodes = self.children(&block.children)?;
+        Ok((!nodes.is_empty()).then(|| group_of(nodes)))
     }
 
     /// The nodes of child statements, all evaluated even when some fail.
