@@ -213,3 +213,37 @@ fn a_condition_must_be_a_boolean() {
     let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
     assert_eq!(codes, ["rtlang::type", "rtlang::type"]);
 }
+
+/// The front face seen by a ray straight down from y = 5 and straight up
+/// from y = -5 at `x`.
+fn faces_at(world: &rtlang::geometry::World, x: f32) -> (bool, bool) {
+    use rtlang::geometry::Ray;
+    let mut rng = rtlang::render::rng::Rng::for_sample(3, 0, 0, 0);
+    let mut front = |y: f32, dir: f32| {
+        let ray = Ray::new(Vec3::new(x, y, 0.0), Vec3::new(0.0, dir, 0.0), 0.0);
+        world
+            .intersect(&ray, 1e-4, f32::INFINITY, &mut rng)
+            .expect("the ray hits the rectangle")
+            .front_face
+    };
+    (front(5.0, -1.0), front(-5.0, 1.0))
+}
+
+#[test]
+fn flip_swaps_the_front_face() {
+    let dir = std::env::temp_dir().join("rtlang-flip-test");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("flip.rt");
+    std::fs::write(
+        &path,
+        "let lamp = light(rgb(1, 1, 1))\n\
+         rect xz { from (-1, -1) to (1, 1) at 0 material lamp }\n\
+         rect xz { from (9, -1) to (11, 1) at 0 material lamp flip translate (0, 1, 0) }\n",
+    )
+    .expect("write the scene");
+    let s = load_scene(&path, &[]).expect("loads").scene;
+    assert!(matches!(&s.objects[1], Node::Transform { child, .. } if matches!(**child, Node::Flip(_))));
+    let world = rtlang::geometry::World::build(&s).expect("builds");
+    assert_eq!(faces_at(&world, 0.0), (true, false));
+    assert_eq!(faces_at(&world, 10.0), (false, true));
+}

@@ -75,6 +75,8 @@ pub enum Stmt {
         body: Vec<Stmt>,
         span: Span,
     },
+    /// `flip`: swap the front and back faces of the enclosing object.
+    Flip { span: Span },
     /// `if COND { ... } else { ... }`; `else if` is an `If` alone in `otherwise`.
     If {
         cond: Expr,

@@ -113,6 +113,7 @@ impl Printer {
                     self.block(body);
                 }
             }
+            Stmt::Flip { .. } => self.line("flip"),
             Stmt::If { .. } => {
                 self.line("");
                 self.if_stmt(stmt);

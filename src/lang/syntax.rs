@@ -206,6 +206,7 @@ fn rule_name(rule: Rule) -> &'static str {
         Rule::and | Rule::or => "an operator",
         Rule::if_stmt | Rule::kw_if => "an object",
         Rule::kw_then => "`then`",
+        Rule::flip => "`flip`",
         Rule::kw_else => "`else`",
         Rule::call | Rule::callee => "a call",
         Rule::arg | Rule::kwarg => "an argument",
@@ -353,6 +354,7 @@ impl Lower {
                 Stmt::Place { name, body, span }
             }
             Rule::object => Stmt::Object(self.object(pair)),
+            Rule::flip => Stmt::Flip { span },
             Rule::if_stmt => {
                 inner.next();
                 let cond = self.expr(next(&mut inner));

@@ -44,7 +44,7 @@ impl Evaluator {
                     Stmt::Property { span, .. }
                     | Stmt::Size { span, .. }
                     | Stmt::Shutter { span, .. } => *span,
-                    Stmt::Motion { span, .. } => *span,
+                    Stmt::Motion { span, .. } | Stmt::Flip { span } => *span,
                     Stmt::Transform(t) => t.span,
                     Stmt::Object(_) | Stmt::Place { .. } | Stmt::If { .. } => {
                         unreachable!("handled above")
@@ -117,7 +117,7 @@ impl Evaluator {
             ObjectKind::Repeat { var, from, to } => return self.repeat(var, from, to, o),
         };
         let transformed = self.apply_transforms(&block.transforms);
-        Ok(transformed?.wrap(node?))
+        Ok(transformed?.wrap(flipped(node?, block.flip)))
     }
 
     /// `if COND { ... } else { ... }`: the objects of the branch taken (the
@@ -522,7 +522,7 @@ impl Evaluator {
         if failed {
             return Err(Fail);
         }
-        Ok(Node::Group(nodes))
+        Ok(flipped(Node::Group(nodes), block.flip))
     }
 
     /// `place NAME { transforms }`: the defined object, shared as a
@@ -566,7 +566,16 @@ impl Evaluator {
             }
             _ => (*node).clone(),
         };
-        Ok(transforms?.wrap(placed))
+        Ok(transforms?.wrap(flipped(placed, block.flip)))
+    }
+}
+
+/// `node` with its faces swapped when `flip` is set.
+fn flipped(node: Node, flip: bool) -> Node {
+    if flip {
+        Node::Flip(Box::new(node))
+    } else {
+        node
     }
 }
 

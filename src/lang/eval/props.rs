@@ -32,6 +32,8 @@ pub(super) struct Block<'a> {
     pub children: Vec<&'a Stmt>,
     pub size: Option<(&'a Expr, &'a Expr)>,
     pub shutter: Option<(&'a Expr, &'a Expr)>,
+    /// `flip` was given: swap the object's front and back faces.
+    pub flip: bool,
 }
 
 impl Block<'_> {
@@ -71,6 +73,7 @@ impl Evaluator {
                         block.props.push((name, value));
                     }
                 }
+                Stmt::Flip { .. } if allow.transforms => block.flip = true,
                 Stmt::Transform(_) | Stmt::Motion { .. } if allow.transforms => {
                     block.transforms.push(stmt)
                 }
@@ -120,6 +123,7 @@ impl Evaluator {
             Stmt::Object(o) => (o.head, "an object"),
             Stmt::Place { span, .. } => (*span, "a `place`"),
             Stmt::If { span, .. } => (*span, "an `if`"),
+            Stmt::Flip { span } => (*span, "`flip`"),
             Stmt::Size { span, .. } => (*span, "`size`"),
             Stmt::Shutter { span, .. } => (*span, "`shutter`"),
             Stmt::Property { span, .. } => (*span, "a property"),
