@@ -247,3 +247,29 @@ fn flip_swaps_the_front_face() {
     assert_eq!(faces_at(&world, 0.0), (true, false));
     assert_eq!(faces_at(&world, 10.0), (false, true));
 }
+
+#[test]
+fn fps_set_in_render_is_the_clock_of_the_whole_file() {
+    let outcome = lang::check(
+        Path::new("tests/scenes/clock.rt"),
+        &Options {
+            frame: 3.0,
+            ..Options::default()
+        },
+    );
+    let s = outcome.scene.expect("evaluates");
+    let mut found = Vec::new();
+    spheres(&s.objects[0], &mut found);
+    assert_eq!(found, [(Vec3::new(2.0, 3.0, 0.0), 0.5)]);
+}
+
+#[test]
+fn a_frame_rate_must_be_positive() {
+    let dir = std::env::temp_dir().join("rtlang-fps-test");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("fps.rt");
+    std::fs::write(&path, "render { fps 0 }\n").expect("write the scene");
+    let outcome = lang::check(&path, &Options::default());
+    let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["rtlang::range"]);
+}
