@@ -242,7 +242,9 @@ fn flip_swaps_the_front_face() {
     )
     .expect("write the scene");
     let s = load_scene(&path, &[]).expect("loads").scene;
-    assert!(matches!(&s.objects[1], Node::Transform { child, .. } if matches!(**child, Node::Flip(_))));
+    assert!(
+        matches!(&s.objects[1], Node::Transform { child, .. } if matches!(**child, Node::Flip(_)))
+    );
     let world = rtlang::geometry::World::build(&s).expect("builds");
     assert_eq!(faces_at(&world, 0.0), (true, false));
     assert_eq!(faces_at(&world, 10.0), (false, true));

@@ -76,7 +76,9 @@ pub enum Stmt {
         span: Span,
     },
     /// `flip`: swap the front and back faces of the enclosing object.
-    Flip { span: Span },
+    Flip {
+        span: Span,
+    },
     /// `if COND { ... } else { ... }`; `else if` is an `If` alone in `otherwise`.
     If {
         cond: Expr,

@@ -206,7 +206,7 @@ fn rule_name(rule: Rule) -> &'static str {
         Rule::and | Rule::or => "an operator",
         Rule::if_stmt | Rule::kw_if => "an object",
         Rule::kw_then => "`then`",
-        Rule::flip => "`flip`",
+        Rule::flip => "a property",
         Rule::kw_else => "`else`",
         Rule::call | Rule::callee => "a call",
         Rule::arg | Rule::kwarg => "an argument",

@@ -135,7 +135,13 @@ impl Evaluator {
             otherwise
         };
         let allow = allow("if", &[], true);
-        let block = self.block(branch, &Allow { transforms: false, ..allow });
+        let block = self.block(
+            branch,
+            &Allow {
+                transforms: false,
+                ..allow
+            },
+        );
         let nodes = self.children(&block.children)?;
         Ok((!nodes.is_empty()).then(|| group_of(nodes)))
     }
