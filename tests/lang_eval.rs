@@ -168,3 +168,110 @@ fn motion_keeps_only_the_time_dependent_part() {
     assert_eq!(*axis, Vec3::Y);
     assert_eq!(degrees.keys, [(0.0, 0.0), (1.0, 90.0)]);
 }
+
+/// Every sphere (centre, radius) under `node`, in order.
+fn spheres(node: &Node, out: &mut Vec<(Vec3, f32)>) {
+    match node {
+        Node::Shape {
+            shape: Shape::Sphere { center, radius },
+            ..
+        } => out.push((*center, *radius)),
+        Node::Group(children) => children.iter().for_each(|c| spheres(c, out)),
+        Node::Transform { child, .. } | Node::Motion { child, .. } => spheres(child, out),
+        _ => {}
+    }
+}
+
+#[test]
+fn if_chooses_objects_and_values() {
+    let mut found = Vec::new();
+    for node in &scene("conditions.rt", &[]).objects {
+        spheres(node, &mut found);
+    }
+    let expected = [
+        (Vec3::new(0.0, 0.0, 0.0), 0.5),
+        (Vec3::new(1.0, 1.0, 0.0), 0.25),
+        (Vec3::new(2.0, 1.0, 0.0), 0.25),
+        (Vec3::new(4.0, 0.0, 0.0), 0.5),
+        (Vec3::new(5.0, 1.0, 0.0), 0.25),
+    ];
+    assert_eq!(found, expected);
+    let small = scene("conditions.rt", &[("big", "false")]);
+    let mut found = Vec::new();
+    spheres(&small.objects[0], &mut found);
+    assert_eq!(found[0].1, 0.1);
+}
+
+#[test]
+fn a_condition_must_be_a_boolean() {
+    let dir = std::env::temp_dir().join("rtlang-if-test");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("bad_if.rt");
+    std::fs::write(&path, "let r = if 1 then 2 else 3\nlet s = 1 < true\nsphere { radius r + s material lambertian(rgb(1, 1, 1)) }\n")
+        .expect("write the scene");
+    let outcome = lang::check(&path, &Options::default());
+    let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["rtlang::type", "rtlang::type"]);
+}
+
+/// The front face seen by a ray straight down from y = 5 and straight up
+/// from y = -5 at `x`.
+fn faces_at(world: &rtlang::geometry::World, x: f32) -> (bool, bool) {
+    use rtlang::geometry::Ray;
+    let mut rng = rtlang::render::rng::Rng::for_sample(3, 0, 0, 0);
+    let mut front = |y: f32, dir: f32| {
+        let ray = Ray::new(Vec3::new(x, y, 0.0), Vec3::new(0.0, dir, 0.0), 0.0);
+        world
+            .intersect(&ray, 1e-4, f32::INFINITY, &mut rng)
+            .expect("the ray hits the rectangle")
+            .front_face
+    };
+    (front(5.0, -1.0), front(-5.0, 1.0))
+}
+
+#[test]
+fn flip_swaps_the_front_face() {
+    let dir = std::env::temp_dir().join("rtlang-flip-test");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("flip.rt");
+    std::fs::write(
+        &path,
+        "let lamp = light(rgb(1, 1, 1))\n\
+         rect xz { from (-1, -1) to (1, 1) at 0 material lamp }\n\
+         rect xz { from (9, -1) to (11, 1) at 0 material lamp flip translate (0, 1, 0) }\n",
+    )
+    .expect("write the scene");
+    let s = load_scene(&path, &[]).expect("loads").scene;
+    assert!(
+        matches!(&s.objects[1], Node::Transform { child, .. } if matches!(**child, Node::Flip(_)))
+    );
+    let world = rtlang::geometry::World::build(&s).expect("builds");
+    assert_eq!(faces_at(&world, 0.0), (true, false));
+    assert_eq!(faces_at(&world, 10.0), (false, true));
+}
+
+#[test]
+fn fps_set_in_render_is_the_clock_of_the_whole_file() {
+    let outcome = lang::check(
+        Path::new("tests/scenes/clock.rt"),
+        &Options {
+            frame: 3.0,
+            ..Options::default()
+        },
+    );
+    let s = outcome.scene.expect("evaluates");
+    let mut found = Vec::new();
+    spheres(&s.objects[0], &mut found);
+    assert_eq!(found, [(Vec3::new(2.0, 3.0, 0.0), 0.5)]);
+}
+
+#[test]
+fn a_frame_rate_must_be_positive() {
+    let dir = std::env::temp_dir().join("rtlang-fps-test");
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join("fps.rt");
+    std::fs::write(&path, "render { fps 0 }\n").expect("write the scene");
+    let outcome = lang::check(&path, &Options::default());
+    let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["rtlang::range"]);
+}

@@ -170,6 +170,11 @@ impl Builder<'_> {
                 items.push(self.placed(Geometry::Medium(medium), Placement::Identity));
             }
             Node::Instance(id) => items.push(self.prototype(*id)?),
+            Node::Flip(child) => {
+                let inner = self.instance(std::iter::once(&**child))?;
+                let geometry = Geometry::Flipped(self.unplaced(inner));
+                items.push(self.placed(geometry, Placement::Identity));
+            }
         }
         Ok(())
     }

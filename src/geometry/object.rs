@@ -29,6 +29,8 @@ pub enum Geometry {
     },
     Group(Group),
     Medium(Medium),
+    /// The inner geometry with every hit's `front_face` negated.
+    Flipped(Arc<Geometry>),
 }
 
 /// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
@@ -65,6 +67,7 @@ impl Geometry {
             },
             Geometry::Group(g) => g.bounds(),
             Geometry::Medium(m) => m.bounds(),
+            Geometry::Flipped(inner) => inner.bounds(),
         }
     }
 
@@ -96,6 +99,11 @@ impl Geometry {
             }
             Geometry::Group(g) => g.intersect(ray, t_min, t_max, rng),
             Geometry::Medium(m) => m.intersect(ray, t_min, t_max, rng),
+            Geometry::Flipped(inner) => {
+                let mut h = inner.intersect(ray, t_min, t_max, rng)?;
+                h.front_face = !h.front_face;
+                Some(h)
+            }
         }
     }
 }

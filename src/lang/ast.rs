@@ -75,6 +75,17 @@ pub enum Stmt {
         body: Vec<Stmt>,
         span: Span,
     },
+    /// `flip`: swap the front and back faces of the enclosing object.
+    Flip {
+        span: Span,
+    },
+    /// `if COND { ... } else { ... }`; `else if` is an `If` alone in `otherwise`.
+    If {
+        cond: Expr,
+        then: Vec<Stmt>,
+        otherwise: Vec<Stmt>,
+        span: Span,
+    },
 }
 
 /// A coordinate axis named in `rotate x|y|z`.
@@ -159,6 +170,24 @@ pub enum BinOp {
     Mul,
     Div,
     Pow,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+    And,
+    Or,
+}
+
+impl BinOp {
+    /// `+ - * / ^`, as opposed to comparisons and `and` / `or`.
+    pub fn is_arithmetic(self) -> bool {
+        matches!(
+            self,
+            BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Pow
+        )
+    }
 }
 
 /// A call argument: positional (`name` is `None`) or `name: value`.
@@ -188,6 +217,10 @@ pub enum ExprKind {
     /// `bezier [points]`
     Bezier(Vec<Expr>),
     Neg(Box<Expr>),
+    /// `not x`
+    Not(Box<Expr>),
+    /// `if COND then A else B`
+    If(Box<Expr>, Box<Expr>, Box<Expr>),
     Binary(BinOp, Box<Expr>, Box<Expr>),
     Object(Box<Object>),
     /// A node cut off because the expression nests too deeply (reported).

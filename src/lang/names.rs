@@ -28,6 +28,12 @@ pub const KEYWORDS: &[&str] = &[
     "bezier",
     "true",
     "false",
+    "if",
+    "then",
+    "else",
+    "and",
+    "or",
+    "not",
 ];
 
 /// Whether `name` is reserved.

@@ -113,8 +113,40 @@ impl Printer {
                     self.block(body);
                 }
             }
+            Stmt::Flip { .. } => self.line("flip"),
+            Stmt::If { .. } => {
+                self.line("");
+                self.if_stmt(stmt);
+            }
         }
         self.out.push('\n');
+    }
+
+    /// `if COND { ... }`, then `else if ...` or `else { ... }` if present.
+    fn if_stmt(&mut self, stmt: &Stmt) {
+        let Stmt::If {
+            cond,
+            then,
+            otherwise,
+            ..
+        } = stmt
+        else {
+            return;
+        };
+        self.out.push_str("if ");
+        self.expr(cond, 0);
+        self.block(then);
+        match &otherwise[..] {
+            [] => {}
+            [inner @ Stmt::If { .. }] => {
+                self.out.push_str(" else ");
+                self.if_stmt(inner);
+            }
+            body => {
+                self.out.push_str(" else");
+                self.block(body);
+            }
+        }
     }
 
     fn transform(&mut self, t: &Transform) {
@@ -152,7 +184,10 @@ impl Printer {
     /// An expression that follows another one directly: parenthesised unless
     /// it is a single token, so a leading `-` cannot join the previous one.
     fn atom(&mut self, e: &Expr) {
-        if matches!(e.kind, ExprKind::Neg(_) | ExprKind::Binary(..)) {
+        if matches!(
+            e.kind,
+            ExprKind::Neg(_) | ExprKind::Not(_) | ExprKind::Binary(..) | ExprKind::If(..)
+        ) {
             self.out.push('(');
             self.expr(e, 0);
             self.out.push(')');
@@ -195,7 +230,10 @@ impl Printer {
 
     /// An expression in a position that only takes a primary.
     fn primary(&mut self, e: &Expr) {
-        if matches!(e.kind, ExprKind::Neg(_) | ExprKind::Binary(..)) {
+        if matches!(
+            e.kind,
+            ExprKind::Neg(_) | ExprKind::Not(_) | ExprKind::Binary(..) | ExprKind::If(..)
+        ) {
             self.out.push('(');
             self.expr(e, 0);
             self.out.push(')');
@@ -252,15 +290,35 @@ impl Printer {
             }
             ExprKind::Neg(x) => {
                 self.out.push('-');
+                self.expr(x, 7);
+            }
+            ExprKind::Not(x) => {
+                self.out.push_str("not ");
                 self.expr(x, 3);
+            }
+            ExprKind::If(cond, then, otherwise) => {
+                self.out.push_str("if ");
+                self.expr(cond, 0);
+                self.out.push_str(" then ");
+                self.expr(then, 0);
+                self.out.push_str(" else ");
+                self.expr(otherwise, 0);
             }
             ExprKind::Binary(op, a, b) => {
                 let (sym, left, right) = match op {
-                    BinOp::Add => (" + ", 1, 2),
-                    BinOp::Sub => (" - ", 1, 2),
-                    BinOp::Mul => (" * ", 2, 3),
-                    BinOp::Div => (" / ", 2, 3),
-                    BinOp::Pow => ("^", 5, 4),
+                    BinOp::Or => (" or ", 1, 2),
+                    BinOp::And => (" and ", 2, 3),
+                    BinOp::Lt => (" < ", 5, 5),
+                    BinOp::Le => (" <= ", 5, 5),
+                    BinOp::Gt => (" > ", 5, 5),
+                    BinOp::Ge => (" >= ", 5, 5),
+                    BinOp::Eq => (" == ", 5, 5),
+                    BinOp::Ne => (" != ", 5, 5),
+                    BinOp::Add => (" + ", 5, 6),
+                    BinOp::Sub => (" - ", 5, 6),
+                    BinOp::Mul => (" * ", 6, 7),
+                    BinOp::Div => (" / ", 6, 7),
+                    BinOp::Pow => ("^", 9, 8),
                 };
                 self.expr(a, left);
                 self.out.push_str(sym);
@@ -297,14 +355,23 @@ impl Printer {
     }
 }
 
-/// Binding strength: 1 sum, 2 product, 3 negation, 4 power, 5 atom.
+/// Binding strength: 0 `if`, 1 `or`, 2 `and`, 3 `not`, 4 comparison,
+/// 5 sum, 6 product, 7 negation, 8 power, 9 atom.
 fn precedence(e: &Expr) -> u8 {
     match &e.kind {
-        ExprKind::Binary(BinOp::Add | BinOp::Sub, ..) => 1,
-        ExprKind::Binary(BinOp::Mul | BinOp::Div, ..) => 2,
-        ExprKind::Neg(_) => 3,
-        ExprKind::Binary(BinOp::Pow, ..) => 4,
-        _ => 5,
+        ExprKind::If(..) => 0,
+        ExprKind::Binary(BinOp::Or, ..) => 1,
+        ExprKind::Binary(BinOp::And, ..) => 2,
+        ExprKind::Not(_) => 3,
+        ExprKind::Binary(
+            BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne,
+            ..,
+        ) => 4,
+        ExprKind::Binary(BinOp::Add | BinOp::Sub, ..) => 5,
+        ExprKind::Binary(BinOp::Mul | BinOp::Div, ..) => 6,
+        ExprKind::Neg(_) => 7,
+        ExprKind::Binary(BinOp::Pow, ..) => 8,
+        _ => 9,
     }
 }
 

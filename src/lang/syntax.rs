@@ -22,6 +22,15 @@ pub const MAX_EXPR_DEPTH: usize = 256;
 
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     PrattParser::new()
+        .op(Op::infix(Rule::or, Assoc::Left))
+        .op(Op::infix(Rule::and, Assoc::Left))
+        .op(Op::prefix(Rule::not))
+        .op(Op::infix(Rule::lt, Assoc::Left)
+            | Op::infix(Rule::le, Assoc::Left)
+            | Op::infix(Rule::gt, Assoc::Left)
+            | Op::infix(Rule::ge, Assoc::Left)
+            | Op::infix(Rule::eq, Assoc::Left)
+            | Op::infix(Rule::ne, Assoc::Left))
         .op(Op::infix(Rule::add, Assoc::Left) | Op::infix(Rule::sub, Assoc::Left))
         .op(Op::infix(Rule::mul, Assoc::Left) | Op::infix(Rule::div, Assoc::Left))
         .op(Op::prefix(Rule::neg))
@@ -32,16 +41,25 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
 /// problems (bad escapes, too-deep expressions) are returned alongside the tree.
 pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<Diagnostic>> {
     check_nesting(text, file)?;
-    let pairs = Grammar::parse(Rule::file, text).map_err(|e| Box::new(syntax_error(e, file)))?;
     let mut lower = Lower {
         file,
+        offset: 0,
         diagnostics: Vec::new(),
     };
-    let mut items = Vec::new();
-    for pair in pairs.flatten().take(1).flat_map(|p| p.into_inner()) {
-        if pair.as_rule() != Rule::EOI {
-            items.push(lower.item(pair));
+    let mut items = Vec::with_capacity(text.len() / 64);
+    while lower.offset < text.len() {
+        let rest = &text[lower.offset..];
+        let mut pairs = Grammar::parse(Rule::next_item, rest)
+            .map_err(|e| Box::new(syntax_error(e, file, lower.offset)))?;
+        let Some(pair) = pairs.next().and_then(|p| p.into_inner().next()) else {
+            break;
+        };
+        if pair.as_rule() == Rule::EOI {
+            break;
         }
+        let end = pair.as_span().end();
+        items.push(lower.item(pair));
+        lower.offset += end;
     }
     Ok((File { items }, lower.diagnostics))
 }
@@ -52,6 +70,7 @@ pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
     let mut pairs = Grammar::parse(Rule::define_value, text).ok()?;
     let mut lower = Lower {
         file,
+        offset: 0,
         diagnostics: Vec::new(),
     };
     let expr = lower.expr(pairs.next()?.into_inner().next()?);
@@ -129,10 +148,11 @@ fn check_nesting(text: &str, file: u32) -> Result<(), Box<Diagnostic>> {
 }
 
 /// Turns pest's error into a diagnostic with words a user understands.
-fn syntax_error(error: pest::error::Error<Rule>, file: u32) -> Diagnostic {
+/// `offset` is where the parsed text starts in the file.
+fn syntax_error(error: pest::error::Error<Rule>, file: u32, offset: usize) -> Diagnostic {
     let (start, end) = match error.location {
-        pest::error::InputLocation::Pos(p) => (p, p),
-        pest::error::InputLocation::Span((s, e)) => (s, e),
+        pest::error::InputLocation::Pos(p) => (offset + p, offset + p),
+        pest::error::InputLocation::Span((s, e)) => (offset + s, offset + e),
     };
     let message = match &error.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } if !positives.is_empty() => {
@@ -164,6 +184,7 @@ fn join_or(names: &[String]) -> String {
 fn rule_name(rule: Rule) -> &'static str {
     match rule {
         Rule::EOI => "end of file",
+        Rule::next_item => "a statement",
         Rule::item | Rule::let_item | Rule::param_item | Rule::include_item => "a statement",
         Rule::render_item | Rule::camera_item => "a statement",
         Rule::block => "`{`",
@@ -178,8 +199,15 @@ fn rule_name(rule: Rule) -> &'static str {
         }
         Rule::rect_plane => "a plane (`xy`, `xz` or `yz`)",
         Rule::axis => "an axis",
-        Rule::expr | Rule::primary | Rule::prefix | Rule::neg => "an expression",
+        Rule::expr | Rule::primary | Rule::prefix | Rule::neg | Rule::not => "an expression",
+        Rule::if_expr => "an expression",
         Rule::infix | Rule::add | Rule::sub | Rule::mul | Rule::div | Rule::pow => "an operator",
+        Rule::lt | Rule::le | Rule::gt | Rule::ge | Rule::eq | Rule::ne => "an operator",
+        Rule::and | Rule::or => "an operator",
+        Rule::if_stmt | Rule::kw_if => "an object",
+        Rule::kw_then => "`then`",
+        Rule::flip => "a property",
+        Rule::kw_else => "`else`",
         Rule::call | Rule::callee => "a call",
         Rule::arg | Rule::kwarg => "an argument",
         Rule::vector => "a vector",
@@ -212,13 +240,15 @@ fn rule_name(rule: Rule) -> &'static str {
 /// The pest pairs → AST pass; collects the few problems found here.
 struct Lower {
     file: u32,
+    /// Where the text pest is parsing starts in the file.
+    offset: usize,
     diagnostics: Vec<Diagnostic>,
 }
 
 impl Lower {
     fn span(&self, pair: &Pair<Rule>) -> Span {
         let s = pair.as_span();
-        Span::new(self.file, s.start(), s.end())
+        Span::new(self.file, self.offset + s.start(), self.offset + s.end())
     }
 
     fn ident(&self, pair: Pair<Rule>) -> Ident {
@@ -324,6 +354,24 @@ impl Lower {
                 Stmt::Place { name, body, span }
             }
             Rule::object => Stmt::Object(self.object(pair)),
+            Rule::flip => Stmt::Flip { span },
+            Rule::if_stmt => {
+                inner.next();
+                let cond = self.expr(next(&mut inner));
+                let then = self.block(next(&mut inner));
+                inner.next();
+                let otherwise = match inner.next() {
+                    Some(p) if p.as_rule() == Rule::if_stmt => vec![self.stmt(p)],
+                    Some(p) => self.block(p),
+                    None => Vec::new(),
+                };
+                Stmt::If {
+                    cond,
+                    then,
+                    otherwise,
+                    span,
+                }
+            }
             _ => Stmt::Transform(self.transform(pair)),
         }
     }
@@ -407,12 +455,13 @@ impl Lower {
     }
 
     fn expr(&mut self, pair: Pair<Rule>) -> Expr {
-        let file = self.file;
+        let (file, offset) = (self.file, self.offset);
         let cell = std::cell::RefCell::new(std::mem::take(&mut self.diagnostics));
         let result = PRATT
             .map_primary(|p| {
                 let mut lower = Lower {
                     file,
+                    offset,
                     diagnostics: Vec::new(),
                 };
                 let e = lower.primary(p);
@@ -420,9 +469,16 @@ impl Lower {
                 e
             })
             .map_prefix(|op, rhs| {
-                let span = Span::new(file, op.as_span().start(), 0).to(rhs.span);
+                let span = Span::new(file, offset + op.as_span().start(), 0).to(rhs.span);
                 let shape = shape_of(&[&rhs]);
-                bounded(&cell, span, shape, move || ExprKind::Neg(Box::new(rhs)))
+                let not = op.as_rule() == Rule::not;
+                bounded(&cell, span, shape, move || {
+                    if not {
+                        ExprKind::Not(Box::new(rhs))
+                    } else {
+                        ExprKind::Neg(Box::new(rhs))
+                    }
+                })
             })
             .map_infix(|lhs, op, rhs| {
                 let span = lhs.span.to(rhs.span);
@@ -431,6 +487,14 @@ impl Lower {
                     Rule::sub => BinOp::Sub,
                     Rule::mul => BinOp::Mul,
                     Rule::div => BinOp::Div,
+                    Rule::lt => BinOp::Lt,
+                    Rule::le => BinOp::Le,
+                    Rule::gt => BinOp::Gt,
+                    Rule::ge => BinOp::Ge,
+                    Rule::eq => BinOp::Eq,
+                    Rule::ne => BinOp::Ne,
+                    Rule::and => BinOp::And,
+                    Rule::or => BinOp::Or,
                     _ => BinOp::Pow,
                 };
                 let shape = shape_of(&[&lhs, &rhs]);
@@ -468,6 +532,16 @@ impl Lower {
                 ExprKind::Bezier(list.map(|l| self.exprs(l)).unwrap_or_default())
             }
             Rule::object => ExprKind::Object(Box::new(self.object(pair))),
+            Rule::if_expr => {
+                let mut inner = pair.into_inner();
+                inner.next();
+                let cond = self.expr(next(&mut inner));
+                inner.next();
+                let then = self.expr(next(&mut inner));
+                inner.next();
+                let otherwise = self.expr(next(&mut inner));
+                ExprKind::If(Box::new(cond), Box::new(then), Box::new(otherwise))
+            }
             Rule::call => {
                 let mut inner = pair.into_inner();
                 let callee = self.ident(next(&mut inner));
@@ -516,7 +590,7 @@ impl Lower {
                 Some((_, 'n')) => out.push('\n'),
                 Some((_, 't')) => out.push('\t'),
                 other => {
-                    let start = pair.as_span().start() + 1 + i;
+                    let start = self.offset + pair.as_span().start() + 1 + i;
                     let end = start + 1 + other.map_or(0, |(_, c)| c.len_utf8());
                     self.diagnostics.push(
                         Diagnostic::error(
@@ -583,7 +657,7 @@ fn depth(e: &Expr) -> usize {
     while let Some((e, level)) = stack.pop() {
         d = d.max(level);
         match &e.kind {
-            ExprKind::Neg(x) => stack.push((x, level + 1)),
+            ExprKind::Neg(x) | ExprKind::Not(x) => stack.push((x, level + 1)),
             ExprKind::Binary(_, a, b) => {
                 stack.push((a, level + 1));
                 stack.push((b, level + 1));

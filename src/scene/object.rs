@@ -88,4 +88,7 @@ pub enum Node {
     },
     /// A placement of a prototype (its structure is shared).
     Instance(ProtoId),
+    /// The child with its front and back faces swapped (pbrt's
+    /// ReverseOrientation): a one-sided light in it emits the other way.
+    Flip(Box<Node>),
 }

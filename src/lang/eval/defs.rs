@@ -152,6 +152,12 @@ impl Evaluator {
                         };
                         walk(&o.body, w, counts);
                     }
+                    Stmt::If {
+                        then, otherwise, ..
+                    } => {
+                        walk(then, weight, counts);
+                        walk(otherwise, weight, counts);
+                    }
                     _ => {}
                 }
             }

@@ -50,11 +50,39 @@ impl Evaluator {
                 };
                 self.at(span, r)
             }
+            ExprKind::Not(x) => {
+                let v = self.expr(x)?;
+                self.condition(&v, x.span).map(|b| Value::Bool(!b))
+            }
+            ExprKind::If(cond, then, otherwise) => {
+                let v = self.expr(cond)?;
+                if self.condition(&v, cond.span)? {
+                    self.expr(then)
+                } else {
+                    self.expr(otherwise)
+                }
+            }
             ExprKind::Object(o) => {
                 let node = self.object(o)?;
                 Ok(Value::Object(Rc::new(node)))
             }
             ExprKind::Error => Err(super::Fail),
+        }
+    }
+
+    /// A boolean value (the condition of an `if` or the operand of `not`).
+    pub(super) fn condition(&mut self, v: &Value, span: crate::lang::source::Span) -> Eval<bool> {
+        match v {
+            Value::Bool(b) => Ok(*b),
+            other => Err(self.report(
+                Diagnostic::error(
+                    "rtlang::type",
+                    span,
+                    format!("expected a boolean, found {}", other.type_name()),
+                )
+                .label("not true or false")
+                .help("compare numbers to get a boolean, e.g. `x < 0.8`"),
+            )),
         }
     }
 

@@ -173,6 +173,7 @@ impl Evaluator {
         self.register_defs(items);
         self.apply_defines();
         self.count_places(items);
+        self.clock(items);
         for item in items {
             match item {
                 Item::Render { body, span } => {

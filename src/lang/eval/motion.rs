@@ -143,7 +143,7 @@ impl Evaluator {
                 SymVal::Scalar(s) => SymVal::Scalar(neg(s)),
                 SymVal::Vector(v) => SymVal::Vector(v.into_iter().map(neg).collect()),
             }),
-            ExprKind::Binary(op, a, b) => {
+            ExprKind::Binary(op, a, b) if op.is_arithmetic() => {
                 let (va, vb) = (self.sym(a), self.sym(b));
                 self.sym_binary(*op, va?, vb?, e.span, b.span)
             }
@@ -309,6 +309,7 @@ fn fold2(op: BinOp, x: Sym, y: Sym) -> Sym {
         BinOp::Mul => Sym::Mul(x, y),
         BinOp::Div => Sym::Div(x, y),
         BinOp::Pow => Sym::Call2(crate::scene::motion::Fn2::Pow, x, y),
+        _ => unreachable!("only arithmetic operators are folded"),
     }
 }
 

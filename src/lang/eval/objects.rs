@@ -33,14 +33,22 @@ impl Evaluator {
         match stmt {
             Stmt::Object(o) => self.object(o).map(Some),
             Stmt::Place { name, body, .. } => self.place(name, body).map(Some),
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                ..
+            } => self.if_stmt(cond, then, otherwise),
             other => {
                 let span = match other {
                     Stmt::Property { span, .. }
                     | Stmt::Size { span, .. }
                     | Stmt::Shutter { span, .. } => *span,
-                    Stmt::Motion { span, .. } => *span,
+                    Stmt::Motion { span, .. } | Stmt::Flip { span } => *span,
                     Stmt::Transform(t) => t.span,
-                    Stmt::Object(_) | Stmt::Place { .. } => unreachable!("handled above"),
+                    Stmt::Object(_) | Stmt::Place { .. } | Stmt::If { .. } => {
+                        unreachable!("handled above")
+                    }
                 };
                 Err(self.report(
                     Diagnostic::error("rtlang::misplaced", span, "this belongs inside a block")
@@ -109,7 +117,33 @@ impl Evaluator {
             ObjectKind::Repeat { var, from, to } => return self.repeat(var, from, to, o),
         };
         let transformed = self.apply_transforms(&block.transforms);
-        Ok(transformed?.wrap(node?))
+        Ok(transformed?.wrap(flipped(node?, block.flip)))
+    }
+
+    /// `if COND { ... } else { ... }`: the objects of the branch taken (the
+    /// other branch is not evaluated); nothing when that branch is empty.
+    fn if_stmt(
+        &mut self,
+        cond: &crate::lang::ast::Expr,
+        then: &[Stmt],
+        otherwise: &[Stmt],
+    ) -> Eval<Option<Node>> {
+        let v = self.expr(cond)?;
+        let branch = if self.condition(&v, cond.span)? {
+            then
+        } else {
+            otherwise
+        };
+        let allow = allow("if", &[], true);
+        let block = self.block(
+            branch,
+            &Allow {
+                transforms: false,
+                ..allow
+            },
+        );
+        let nodes = self.children(&block.children)?;
+        Ok((!nodes.is_empty()).then(|| group_of(nodes)))
     }
 
     /// The nodes of child statements, all evaluated even when some fail.
@@ -494,7 +528,7 @@ impl Evaluator {
         if failed {
             return Err(Fail);
         }
-        Ok(Node::Group(nodes))
+        Ok(flipped(Node::Group(nodes), block.flip))
     }
 
     /// `place NAME { transforms }`: the defined object, shared as a
@@ -538,7 +572,16 @@ impl Evaluator {
             }
             _ => (*node).clone(),
         };
-        Ok(transforms?.wrap(placed))
+        Ok(transforms?.wrap(flipped(placed, block.flip)))
+    }
+}
+
+/// `node` with its faces swapped when `flip` is set.
+fn flipped(node: Node, flip: bool) -> Node {
+    if flip {
+        Node::Flip(Box::new(node))
+    } else {
+        node
     }
 }
 

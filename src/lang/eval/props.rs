@@ -32,6 +32,8 @@ pub(super) struct Block<'a> {
     pub children: Vec<&'a Stmt>,
     pub size: Option<(&'a Expr, &'a Expr)>,
     pub shutter: Option<(&'a Expr, &'a Expr)>,
+    /// `flip` was given: swap the object's front and back faces.
+    pub flip: bool,
 }
 
 impl Block<'_> {
@@ -71,10 +73,13 @@ impl Evaluator {
                         block.props.push((name, value));
                     }
                 }
+                Stmt::Flip { .. } if allow.transforms => block.flip = true,
                 Stmt::Transform(_) | Stmt::Motion { .. } if allow.transforms => {
                     block.transforms.push(stmt)
                 }
-                Stmt::Object(_) | Stmt::Place { .. } if allow.children => block.children.push(stmt),
+                Stmt::Object(_) | Stmt::Place { .. } | Stmt::If { .. } if allow.children => {
+                    block.children.push(stmt)
+                }
                 Stmt::Size { width, height, .. } if allow.size && block.size.is_none() => {
                     block.size = Some((width, height))
                 }
@@ -117,6 +122,8 @@ impl Evaluator {
             Stmt::Motion { span, .. } => (*span, "a motion block"),
             Stmt::Object(o) => (o.head, "an object"),
             Stmt::Place { span, .. } => (*span, "a `place`"),
+            Stmt::If { span, .. } => (*span, "an `if`"),
+            Stmt::Flip { span } => (*span, "`flip`"),
             Stmt::Size { span, .. } => (*span, "`size`"),
             Stmt::Shutter { span, .. } => (*span, "`shutter`"),
             Stmt::Property { span, .. } => (*span, "a property"),
@@ -136,7 +143,7 @@ impl Evaluator {
             )
             .label("not allowed here")
             .help(match stmt {
-                Stmt::Object(_) | Stmt::Place { .. } => {
+                Stmt::Object(_) | Stmt::Place { .. } | Stmt::If { .. } => {
                     "put objects at top level or inside a `group`"
                 }
                 Stmt::Size { .. } | Stmt::Shutter { .. } => {

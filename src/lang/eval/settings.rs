@@ -5,7 +5,7 @@
 use super::props::Allow;
 use super::value::Value;
 use super::{Eval, Evaluator};
-use crate::lang::ast::Stmt;
+use crate::lang::ast::{Item, Stmt};
 use crate::lang::diagnostics::Diagnostic;
 use crate::scene::Background;
 
@@ -18,10 +18,42 @@ const MAX_PIXEL_BYTES: f64 = 16.0 * (1u64 << 30) as f64;
 const MAX_SAMPLES: f64 = 1e13;
 
 impl Evaluator {
+    /// `fps` of the first `render` block, read before anything else is
+    /// evaluated so that every use of the name `fps` sees it.
+    pub(super) fn clock(&mut self, items: &[Item]) {
+        let fps = items
+            .iter()
+            .find_map(|item| match item {
+                Item::Render { body, .. } => Some(body),
+                _ => None,
+            })
+            .and_then(|body| {
+                body.iter().find_map(|stmt| match stmt {
+                    Stmt::Property { name, value, .. } if name.name == "fps" => Some(value),
+                    _ => None,
+                })
+            });
+        let Some(e) = fps else { return };
+        let Ok(v) = self.expr(e).and_then(|v| self.num(&v, e.span)) else {
+            return;
+        };
+        if self
+            .range(
+                v > 0.0 && v <= 1000.0,
+                e.span,
+                format!("the frame rate must be in (0, 1000], not {v}"),
+                "the frame rate is frames per second, e.g. `fps 24`",
+            )
+            .is_ok()
+        {
+            self.options.fps = v;
+        }
+    }
+
     pub(super) fn render(&mut self, body: &[Stmt]) {
         let allow = Allow {
             what: "render",
-            props: &["samples", "depth", "seed", "background"],
+            props: &["samples", "depth", "seed", "background", "fps"],
             transforms: false,
             children: false,
             size: true,

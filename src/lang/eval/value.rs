@@ -50,6 +50,28 @@ pub fn binary(op: crate::lang::ast::BinOp, a: &Value, b: &Value) -> Result<Value
     use crate::lang::ast::BinOp::*;
     use Value::*;
     let r = match (op, a, b) {
+        (Lt, Num(x), Num(y)) => Bool(x < y),
+        (Le, Num(x), Num(y)) => Bool(x <= y),
+        (Gt, Num(x), Num(y)) => Bool(x > y),
+        (Ge, Num(x), Num(y)) => Bool(x >= y),
+        (Eq, Num(x), Num(y)) => Bool(x == y),
+        (Ne, Num(x), Num(y)) => Bool(x != y),
+        (Eq, Bool(x), Bool(y)) => Bool(x == y),
+        (Ne, Bool(x), Bool(y)) => Bool(x != y),
+        (And, Bool(x), Bool(y)) => Bool(*x && *y),
+        (Or, Bool(x), Bool(y)) => Bool(*x || *y),
+        (Lt | Le | Gt | Ge | Eq | Ne | And | Or, ..) => {
+            return Err(Issue::new(
+                "rtlang::type",
+                format!(
+                    "cannot apply `{}` to {} and {}",
+                    symbol(op),
+                    a.type_name(),
+                    b.type_name()
+                ),
+            )
+            .help("comparisons take two numbers; `and` and `or` take two booleans"))
+        }
         (_, Num(x), Num(y)) => Num(scalar(op, *x, *y)?),
         (Add, Vec3(x), Vec3(y)) => Vec3(*x + *y),
         (Sub, Vec3(x), Vec3(y)) => Vec3(*x - *y),
@@ -100,6 +122,13 @@ pub fn scalar(op: crate::lang::ast::BinOp, x: f64, y: f64) -> Result<f64, Issue>
         Mul => x * y,
         Div => x / nonzero(y)?,
         Pow => x.powf(y),
+        Lt | Le | Gt | Ge | Eq | Ne | And | Or => {
+            return Err(Issue::new(
+                "rtlang::type",
+                format!("`{}` gives a boolean, not a number", symbol(op)),
+            )
+            .help("use the comparison as the condition of an `if`"))
+        }
     };
     finite(r)
 }
@@ -134,5 +163,13 @@ fn symbol(op: crate::lang::ast::BinOp) -> &'static str {
         Mul => "*",
         Div => "/",
         Pow => "^",
+        Lt => "<",
+        Le => "<=",
+        Gt => ">",
+        Ge => ">=",
+        Eq => "==",
+        Ne => "!=",
+        And => "and",
+        Or => "or",
     }
 }
