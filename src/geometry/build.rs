@@ -16,6 +16,7 @@ use super::primitives::{Primitive, PrimitiveSet};
 use super::revolution::{tessellate, RevolutionSurface};
 use super::shapes::{Cuboid, Plane, Rect, Sphere, Triangle};
 use super::{Hit, Ray};
+use crate::render::lights::LightList;
 use crate::render::rng::Rng;
 use crate::scene::object::RevolutionMode;
 use crate::scene::{MaterialId, Node, ProtoId, Scene, Shape};
@@ -39,6 +40,7 @@ pub enum BuildError {
 pub struct World {
     root: Instance,
     revolutions: Vec<Arc<RevolutionSurface>>,
+    lights: LightList,
 }
 
 impl World {
@@ -55,6 +57,7 @@ impl World {
         Ok(World {
             root,
             revolutions: b.revolutions,
+            lights: LightList::build(scene),
         })
     }
 
@@ -62,6 +65,11 @@ impl World {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
         self.root.intersect(ray, t_min, t_max, rng)
+    }
+
+    /// The emitters next-event estimation samples.
+    pub fn lights(&self) -> &LightList {
+        &self.lights
     }
 
     /// Newton iterations that failed to converge, over all analytic
