@@ -117,7 +117,7 @@ fn convergence(
     world: &World,
     options: &RenderOptions,
 ) -> ExitCode {
-    let methods = [Method::Path, Method::Nee];
+    let methods = [Method::Path, Method::Nee, Method::NeeAdaptive];
     let result = match study(
         scene,
         world,
@@ -157,6 +157,9 @@ fn convergence(
             "\nAt equal time ({last_path:.2} s): relMSE path / nee = {:.1}×\n",
             p / n
         );
+        if let Some(a) = result.rel_mse_at(Method::NeeAdaptive, last_path) {
+            table += &format!("relMSE path / (nee+adaptive) = {:.1}×\n", p / a);
+        }
     }
     let md = args.out.join(format!("{name}-convergence.md"));
     let png = args.out.join(format!("{name}-convergence.png"));

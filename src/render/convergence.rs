@@ -22,6 +22,9 @@ pub enum Method {
     Path,
     /// Next-event estimation with MIS.
     Nee,
+    /// Light sampling with adaptive sampling: at a nominal `n` spp, pixels
+    /// may trace up to `4n` samples and stop at relative error `1/√n`.
+    NeeAdaptive,
 }
 
 impl Method {
@@ -29,11 +32,19 @@ impl Method {
         match self {
             Method::Path => "path",
             Method::Nee => "nee",
+            Method::NeeAdaptive => "nee+adaptive",
         }
     }
 
-    fn apply(self, options: &mut RenderOptions) {
-        options.light_sampling = self == Method::Nee;
+    /// Sets `options` for this method at a nominal `spp`.
+    fn apply(self, options: &mut RenderOptions, spp: u32) {
+        options.light_sampling = self != Method::Path;
+        options.spp = spp;
+        options.noise = None;
+        if self == Method::NeeAdaptive {
+            options.spp = spp.saturating_mul(4);
+            options.noise = Some(1.0 / (spp as f32).sqrt());
+        }
     }
 }
 
@@ -41,7 +52,10 @@ impl Method {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measurement {
     pub method: Method,
+    /// The nominal spp.
     pub spp: u32,
+    /// Samples actually traced per pixel, on average.
+    pub mean_spp: f64,
     pub wall: Duration,
     pub metrics: Metrics,
 }
@@ -87,18 +101,20 @@ pub fn study(
     options.spp = reference_spp;
     options.seed = base.seed.wrapping_add(1);
     options.light_sampling = true;
+    options.noise = None;
     let reference = render(scene, world, &options, &|_| {})?;
     let reference_image = to_image(&reference);
     let mut measurements = Vec::new();
     for &method in methods {
         for &spp in spps {
             let mut options = base.clone();
-            options.spp = spp;
-            method.apply(&mut options);
+            method.apply(&mut options, spp);
             let out = render(scene, world, &options, &|_| {})?;
+            let pixels = (out.width as u64 * out.height as u64).max(1);
             measurements.push(Measurement {
                 method,
                 spp,
+                mean_spp: out.stats.samples as f64 / pixels as f64,
                 wall: out.stats.wall,
                 metrics: compare(&to_image(&out), &reference_image)?,
             });
@@ -116,15 +132,16 @@ impl Convergence {
     pub fn markdown(&self) -> String {
         let mut s = format!(
             "Reference: {} spp with light sampling, {:.2} s.\n\n\
-             | method | spp | time (s) | RMSE | relMSE |\n|---|---:|---:|---:|---:|\n",
+             | method | spp | mean spp | time (s) | RMSE | relMSE |\n|---|---:|---:|---:|---:|---:|\n",
             self.reference_spp,
             self.reference_wall.as_secs_f64()
         );
         for m in &self.measurements {
             s += &format!(
-                "| {} | {} | {:.3} | {:.4e} | {:.4e} |\n",
+                "| {} | {} | {:.1} | {:.3} | {:.4e} | {:.4e} |\n",
                 m.method.name(),
                 m.spp,
+                m.mean_spp,
                 m.wall.as_secs_f64(),
                 m.metrics.rmse,
                 m.metrics.rel_mse
