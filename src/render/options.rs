@@ -87,10 +87,10 @@ impl RenderOptions {
         if self.spp == 0 {
             return Err(OptionsError::NoSamples);
         }
-        if let Some(c) = self.clamp.filter(|c| !(*c > 0.0)) {
+        if let Some(c) = self.clamp.filter(|c| c.is_nan() || *c <= 0.0) {
             return Err(OptionsError::BadClamp(c));
         }
-        if let Some(n) = self.noise.filter(|n| !(*n > 0.0)) {
+        if let Some(n) = self.noise.filter(|n| n.is_nan() || *n <= 0.0) {
             return Err(OptionsError::BadNoise(n));
         }
         if self.threads == Some(0) {
