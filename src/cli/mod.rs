@@ -1,6 +1,7 @@
 //! Command-line interface: the clap definition of every subcommand and the
 //! dispatch to one module per command. No rendering or language logic here.
 
+mod bench;
 mod check;
 mod compare;
 mod gen;
@@ -34,6 +35,8 @@ enum Command {
     Inspect(inspect::InspectArgs),
     /// Generate the project's procedural assets (textures, meshes).
     Gen(gen::GenArgs),
+    /// Measure throughput, or error against time with `--convergence`.
+    Bench(bench::BenchArgs),
 }
 
 /// Parses the command line and runs the chosen command.
@@ -46,6 +49,7 @@ pub fn run() -> ExitCode {
         Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
         Command::Inspect(args) => inspect::run(args),
+        Command::Bench(args) => bench::run(args),
     }
 }
 

@@ -10,6 +10,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use rtlang::geometry::World;
+use rtlang::render::adaptive::render_for;
 use rtlang::render::output::{write_image, Format};
 use rtlang::render::{render, Crop, RenderOptions};
 
@@ -48,6 +49,47 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// `nee`: light sampling with MIS (default); `path`: plain path tracing.
+    #[arg(long, value_enum, default_value_t = Integrator::Nee)]
+    integrator: Integrator,
+    /// Cap each sample's radiance at this value (removes fireflies; biased).
+    #[arg(long)]
+    clamp: Option<f32>,
+    /// Adaptive sampling: stop a pixel once its relative error is below this
+    /// (e.g. 0.02); `--spp` is then the per-pixel cap.
+    #[arg(long)]
+    noise: Option<f32>,
+    /// Render progressively until this much time is spent (`90s`, `2m`,
+    /// `500ms`); ignores `--spp`.
+    #[arg(long, value_parser = parse_duration, conflicts_with = "noise")]
+    time: Option<std::time::Duration>,
+}
+
+fn parse_duration(s: &str) -> Result<std::time::Duration, String> {
+    let s = s.trim();
+    let split = s.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(s.len());
+    let (number, unit) = s.split_at(split);
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|e| format!("`{number}`: {e}"))?;
+    let seconds = match unit {
+        "" | "s" => value,
+        "ms" => value / 1000.0,
+        "m" | "min" => value * 60.0,
+        "h" => value * 3600.0,
+        _ => return Err(format!("unknown unit `{unit}`; use ms, s, m or h")),
+    };
+    std::time::Duration::try_from_secs_f64(seconds).map_err(|e| e.to_string())
+}
+
+/// The integrator `--integrator` selects.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Integrator {
+    /// Plain unidirectional path tracing.
+    Path,
+    /// Next-event estimation with multiple importance sampling.
+    Nee,
 }
 
 fn parse_crop(s: &str) -> Result<Crop, String> {
@@ -95,6 +137,9 @@ pub fn run(args: RenderArgs) -> ExitCode {
     options.seed = args.seed.unwrap_or(options.seed);
     options.threads = args.threads;
     options.crop = args.crop;
+    options.light_sampling = args.integrator == Integrator::Nee;
+    options.clamp = args.clamp;
+    options.noise = args.noise;
     let region = match options.region() {
         Ok(r) => r,
         Err(e) => return fail(e),
@@ -112,7 +157,11 @@ pub fn run(args: RenderArgs) -> ExitCode {
                 .unwrap_or_else(|_| ProgressStyle::default_bar());
         ProgressBar::new(pixels).with_style(style)
     };
-    let out = match render(&scene, &world, &options, &|n| bar.inc(n)) {
+    let rendered = match args.time {
+        Some(budget) => render_for(&scene, &world, &options, budget, &|_| {}).map(|(o, _)| o),
+        None => render(&scene, &world, &options, &|n| bar.inc(n)),
+    };
+    let out = match rendered {
         Ok(o) => o,
         Err(e) => return fail(e),
     };
@@ -130,6 +179,12 @@ pub fn run(args: RenderArgs) -> ExitCode {
         s.rays as f64 / secs / 1e6,
         s.dropped,
         s.newton_failures
+    );
+    eprintln!(
+        "samples per pixel: {} to {}, mean {:.1}",
+        s.spp_min,
+        s.spp_max,
+        s.samples as f64 / pixels.max(1) as f64
     );
     ExitCode::SUCCESS
 }

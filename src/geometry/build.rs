@@ -17,6 +17,7 @@ use super::revolution::{tessellate, RevolutionSurface};
 use super::shapes::{Cuboid, Plane, Rect, Sphere, Triangle};
 use super::sweep::swept_bounds;
 use super::{Hit, Ray};
+use crate::render::lights::LightList;
 use crate::render::rng::Rng;
 use crate::scene::motion::CompiledMotion;
 use crate::scene::object::RevolutionMode;
@@ -41,6 +42,7 @@ pub enum BuildError {
 pub struct World {
     root: Instance,
     revolutions: Vec<Arc<RevolutionSurface>>,
+    lights: LightList,
 }
 
 impl World {
@@ -57,6 +59,7 @@ impl World {
         Ok(World {
             root,
             revolutions: b.revolutions,
+            lights: LightList::build(scene),
         })
     }
 
@@ -64,6 +67,11 @@ impl World {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
         self.root.intersect(ray, t_min, t_max, rng)
+    }
+
+    /// The emitters next-event estimation samples.
+    pub fn lights(&self) -> &LightList {
+        &self.lights
     }
 
     /// Newton iterations that failed to converge, over all analytic

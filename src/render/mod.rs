@@ -1,8 +1,11 @@
 //! From geometry to pixels: sampling, camera rays, materials, the path
 //! tracing integrator, the film, tiles over threads, and image output.
 
+pub mod adaptive;
 pub mod camera;
+pub mod convergence;
 pub mod integrator;
+pub mod lights;
 pub mod material;
 pub mod options;
 pub mod output;

@@ -23,6 +23,17 @@ pub struct RenderOptions {
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
     pub crop: Option<Crop>,
+    /// Next-event estimation with multiple importance sampling (on by
+    /// default); off gives plain path tracing.
+    pub light_sampling: bool,
+    /// Caps each sample's radiance at this maximum component (biased; off by
+    /// default).
+    pub clamp: Option<f32>,
+    /// Adaptive sampling: a pixel stops once the relative standard error of
+    /// its mean luminance is below this; `spp` is then the cap.
+    pub noise: Option<f32>,
+    /// Index of each pixel's first sample (progressive rounds use new ones).
+    pub first_sample: u32,
 }
 
 /// Why options cannot be rendered.
@@ -43,6 +54,10 @@ pub enum OptionsError {
     },
     #[error("{0} threads requested; need at least 1")]
     NoThreads(usize),
+    #[error("the clamp {0} must be a positive number")]
+    BadClamp(f32),
+    #[error("the noise target {0} must be a positive number")]
+    BadNoise(f32),
 }
 
 impl RenderOptions {
@@ -56,6 +71,10 @@ impl RenderOptions {
             seed: s.seed,
             threads: None,
             crop: None,
+            light_sampling: true,
+            clamp: None,
+            noise: None,
+            first_sample: 0,
         }
     }
 
@@ -67,6 +86,12 @@ impl RenderOptions {
         }
         if self.spp == 0 {
             return Err(OptionsError::NoSamples);
+        }
+        if let Some(c) = self.clamp.filter(|c| c.is_nan() || *c <= 0.0) {
+            return Err(OptionsError::BadClamp(c));
+        }
+        if let Some(n) = self.noise.filter(|n| n.is_nan() || *n <= 0.0) {
+            return Err(OptionsError::BadNoise(n));
         }
         if self.threads == Some(0) {
             return Err(OptionsError::NoThreads(0));

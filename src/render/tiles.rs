@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::adaptive::{is_round_end, PixelEstimate};
 use super::camera::CameraRays;
 use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
@@ -30,6 +31,10 @@ pub struct RenderStats {
     /// Newton iterations of analytic revolution surfaces that failed.
     pub newton_failures: u64,
     pub wall: Duration,
+    /// The fewest and most samples a pixel traced (they differ only with
+    /// adaptive sampling).
+    pub spp_min: u32,
+    pub spp_max: u32,
 }
 
 /// A rendered region in linear RGB, row 0 at the top.
@@ -56,6 +61,9 @@ struct TileResult {
     pixels: Vec<Vec3>,
     rays: u64,
     dropped: u64,
+    samples: u64,
+    spp_min: u32,
+    spp_max: u32,
 }
 
 /// Renders `world` (built from `scene`) with `options`; `progress` is told
@@ -74,6 +82,7 @@ pub fn render(
         scene,
         world,
         max_depth: options.max_depth,
+        light_sampling: options.light_sampling,
     };
     let work = || -> Vec<TileResult> {
         tiles
@@ -99,10 +108,13 @@ pub fn render(
     let (width, height) = (region.x1 - region.x0, region.y1 - region.y0);
     let mut pixels = vec![Vec3::ZERO; width as usize * height as usize];
     let mut stats = RenderStats {
-        samples: width as u64 * height as u64 * options.spp as u64,
+        spp_min: u32::MAX,
         ..RenderStats::default()
     };
     for r in results {
+        stats.samples += r.samples;
+        stats.spp_min = stats.spp_min.min(r.spp_min);
+        stats.spp_max = stats.spp_max.max(r.spp_max);
         stats.rays += r.rays;
         stats.dropped += r.dropped;
         let tw = (r.tile.x1 - r.tile.x0) as usize;
@@ -120,6 +132,18 @@ pub fn render(
         pixels,
         stats,
     })
+}
+
+/// Scales `l` down so that its largest component is at most `max`, keeping
+/// its hue (biased: it darkens fireflies and true highlights alike).
+#[inline]
+fn clamp_radiance(l: Vec3, max: f32) -> Vec3 {
+    let m = l.max_element();
+    if m > max {
+        l * (max / m)
+    } else {
+        l
+    }
 }
 
 /// Tiles on a grid anchored at the image origin, clipped to `region`.
@@ -151,25 +175,37 @@ fn render_tile(
     tile: Crop,
 ) -> TileResult {
     let mut pixels = Vec::with_capacity(((tile.x1 - tile.x0) * (tile.y1 - tile.y0)) as usize);
-    let (mut rays, mut dropped) = (0u64, 0u64);
+    let (mut rays, mut dropped, mut samples) = (0u64, 0u64, 0u64);
+    let (mut spp_min, mut spp_max) = (u32::MAX, 0u32);
     for y in tile.y0..tile.y1 {
         for x in tile.x0..tile.x1 {
-            let mut sum = Vec3::ZERO;
-            let mut kept = 0u32;
+            let mut estimate = PixelEstimate::default();
+            let mut traced = 0u32;
             for s in 0..options.spp {
-                let mut rng = Rng::for_sample(options.seed, x, y, s);
+                if let Some(target) = options.noise {
+                    if is_round_end(s) && estimate.relative_error() < target as f64 {
+                        break;
+                    }
+                }
+                traced += 1;
+                let mut rng = Rng::for_sample(options.seed, x, y, options.first_sample + s);
                 let ray = camera.ray(x, y, &mut rng);
-                let (l, n) = tracer.radiance(ray, &mut rng);
+                let (mut l, n) = tracer.radiance(ray, &mut rng);
+                if let Some(c) = options.clamp {
+                    l = clamp_radiance(l, c);
+                }
                 rays += n as u64;
                 if l.is_finite() {
-                    sum += l;
-                    kept += 1;
+                    estimate.add(l);
                 } else {
                     dropped += 1;
                 }
             }
-            pixels.push(if kept > 0 {
-                sum / kept as f32
+            samples += traced as u64;
+            spp_min = spp_min.min(traced);
+            spp_max = spp_max.max(traced);
+            pixels.push(if estimate.kept > 0 {
+                estimate.sum / estimate.kept as f32
             } else {
                 Vec3::ZERO
             });
@@ -180,5 +216,8 @@ fn render_tile(
         pixels,
         rays,
         dropped,
+        samples,
+        spp_min,
+        spp_max,
     }
 }

@@ -1,0 +1,178 @@
+//! `rtlang bench SCENE`: throughput (samples/s and rays/s on one and two
+//! threads, and the scaling factor), or with `--convergence` an error-vs-time
+//! study of path tracing and light sampling against a high-spp reference,
+//! written as a markdown table and a log-log PNG. Orchestration only; the
+//! work is in `render::convergence`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use rtlang::geometry::World;
+use rtlang::render::convergence::{study, throughput, Method};
+use rtlang::render::RenderOptions;
+
+/// Arguments of `rtlang bench`.
+#[derive(Args)]
+pub struct BenchArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Measure error against time instead of throughput.
+    #[arg(long)]
+    convergence: bool,
+    /// Samples per pixel of the convergence reference.
+    #[arg(long, default_value_t = 4096)]
+    reference_spp: u32,
+    /// The spp of the measured convergence renders, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,4,16,64")]
+    spps: Vec<u32>,
+    /// Where the convergence table and plot go.
+    #[arg(long, default_value = "bench-out")]
+    out: PathBuf,
+    /// Image width and height in pixels (overrides the scene).
+    #[arg(long)]
+    size: Option<u32>,
+    /// Samples per pixel of the throughput render (overrides the scene).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Maximum path depth (overrides the scene).
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Plain path tracing for the throughput render.
+    #[arg(long)]
+    no_light_sampling: bool,
+    /// Scene parameter override `name=value` (repeatable).
+    #[arg(short = 'D', value_parser = super::parse_define)]
+    define: Vec<(String, String)>,
+}
+
+fn fail(message: impl std::fmt::Display) -> ExitCode {
+    eprintln!("error: {message}");
+    ExitCode::FAILURE
+}
+
+/// Runs the command.
+pub fn run(args: BenchArgs) -> ExitCode {
+    let loaded = match rtlang::lang::load_scene(&args.scene, &args.define) {
+        Ok(l) => l,
+        Err(reports) => {
+            for r in reports {
+                eprintln!("{r:?}");
+            }
+            return ExitCode::FAILURE;
+        }
+    };
+    let scene = loaded.scene;
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    if let Some(s) = args.size {
+        options.height =
+            (s as u64 * options.height as u64 / options.width.max(1) as u64).max(1) as u32;
+        options.width = s;
+    }
+    options.spp = args.spp.unwrap_or(options.spp);
+    options.max_depth = args.max_depth.unwrap_or(options.max_depth);
+    options.light_sampling = !args.no_light_sampling;
+    if let Err(e) = options.region() {
+        return fail(e);
+    }
+    let world = match World::build(&scene) {
+        Ok(w) => w,
+        Err(e) => return fail(e),
+    };
+    if args.convergence {
+        convergence(&args, &scene, &world, &options)
+    } else {
+        scaling(&scene, &world, &options)
+    }
+}
+
+fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions) -> ExitCode {
+    println!(
+        "{}×{}, {} spp, depth {}, light sampling {}\n\n| threads | time (s) | M samples/s | M rays/s |\n|---:|---:|---:|---:|",
+        options.width, options.height, options.spp, options.max_depth, options.light_sampling
+    );
+    let mut rates = Vec::new();
+    for threads in [1, 2] {
+        let t = match throughput(scene, world, options, threads) {
+            Ok(t) => t,
+            Err(e) => return fail(e),
+        };
+        println!(
+            "| {} | {:.2} | {:.3} | {:.3} |",
+            threads,
+            t.wall.as_secs_f64(),
+            t.samples_per_second / 1e6,
+            t.rays_per_second / 1e6
+        );
+        rates.push(t.samples_per_second);
+    }
+    println!("\nscaling 1 → 2 threads: {:.2}×", rates[1] / rates[0]);
+    ExitCode::SUCCESS
+}
+
+fn convergence(
+    args: &BenchArgs,
+    scene: &rtlang::scene::Scene,
+    world: &World,
+    options: &RenderOptions,
+) -> ExitCode {
+    let methods = [Method::Path, Method::Nee, Method::NeeAdaptive];
+    let result = match study(
+        scene,
+        world,
+        options,
+        args.reference_spp,
+        &methods,
+        &args.spps,
+    ) {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    if let Err(e) = std::fs::create_dir_all(&args.out) {
+        return fail(format!("cannot create {}: {e}", args.out.display()));
+    }
+    let name = args
+        .scene
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let mut table = format!(
+        "# {name}: error against time\n\n{}×{}, depth {}, `rtlang bench --convergence`.\n\n{}",
+        options.width,
+        options.height,
+        options.max_depth,
+        result.markdown()
+    );
+    let last_path = result
+        .measurements
+        .iter()
+        .filter(|m| m.method == Method::Path)
+        .map(|m| m.wall.as_secs_f64())
+        .fold(0.0f64, f64::max);
+    if let (Some(p), Some(n)) = (
+        result.rel_mse_at(Method::Path, last_path),
+        result.rel_mse_at(Method::Nee, last_path),
+    ) {
+        table += &format!(
+            "\nAt equal time ({last_path:.2} s): relMSE path / nee = {:.1}×\n",
+            p / n
+        );
+        if let Some(a) = result.rel_mse_at(Method::NeeAdaptive, last_path) {
+            table += &format!("relMSE path / (nee+adaptive) = {:.1}×\n", p / a);
+        }
+    }
+    let md = args.out.join(format!("{name}-convergence.md"));
+    let png = args.out.join(format!("{name}-convergence.png"));
+    if let Err(e) = std::fs::write(&md, &table) {
+        return fail(format!("cannot write {}: {e}", md.display()));
+    }
+    if let Err(e) = result
+        .plot(&format!("{name}: relative MSE vs time"))
+        .save(&png)
+    {
+        return fail(e);
+    }
+    print!("{table}");
+    eprintln!("wrote {} and {}", md.display(), png.display());
+    ExitCode::SUCCESS
+}

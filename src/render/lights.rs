@@ -1,0 +1,613 @@
+//! The light list for next-event estimation: every emissive rect, triangle,
+//! mesh triangle and sphere of the scene in world space (static transforms
+//! and prototype instances applied), chosen in proportion to their power,
+//! with point sampling (area for flat shapes, cone for spheres) and the
+//! matching solid-angle densities used by multiple importance sampling.
+//!
+//! A light material is *sampled* only if every shape using it is in the
+//! list; otherwise (a moving, planar, box, revolution or non-uniformly
+//! scaled spherical emitter, or a textured emission) none of its shapes are,
+//! and paths find it by scattering alone, which stays unbiased.
+
+use std::f32::consts::TAU;
+
+#[cfg(test)]
+use glam::Mat4;
+use glam::{Affine3A, Mat3A, Vec3};
+
+use super::rng::Rng;
+use crate::scene::object::RectPlane;
+use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
+
+/// Nesting of transforms and prototypes walked before giving up.
+const MAX_NESTING: u32 = 64;
+
+/// An emissive shape in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightShape {
+    /// The parallelogram `corner + s·edges.0 + t·edges.1`, s, t in [0, 1].
+    Parallelogram {
+        corner: Vec3,
+        edges: (Vec3, Vec3),
+        normal: Vec3,
+    },
+    Triangle {
+        v: [Vec3; 3],
+        normal: Vec3,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+}
+
+impl LightShape {
+    fn area(&self) -> f32 {
+        match *self {
+            LightShape::Parallelogram { edges, .. } => edges.0.cross(edges.1).length(),
+            LightShape::Triangle { v, .. } => 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length(),
+            LightShape::Sphere { radius, .. } => 2.0 * TAU * radius * radius,
+        }
+    }
+}
+
+/// One light: its shape, material and constant emitted radiance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    pub shape: LightShape,
+    pub material: MaterialId,
+    pub emit: Vec3,
+    pub two_sided: bool,
+}
+
+/// A point sampled on a light, seen from a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point to the light point.
+    pub dir: Vec3,
+    /// Distance to the light point.
+    pub dist: f32,
+    /// Radiance leaving the light towards the shading point.
+    pub emitted: Vec3,
+    /// Density of `dir` in solid angle, light choice included.
+    pub pdf: f32,
+}
+
+/// Every sampled light, with the cumulative selection weights.
+#[derive(Clone, Debug, Default)]
+pub struct LightList {
+    lights: Vec<Light>,
+    cdf: Vec<f32>,
+    total: f32,
+    /// Per material id: its per-area selection weight if it is sampled.
+    weight: Vec<Option<f32>>,
+}
+
+struct Walker<'a> {
+    scene: &'a Scene,
+    found: Vec<Light>,
+    /// Light materials with an emitter that cannot be sampled.
+    unsampled: Vec<bool>,
+}
+
+impl LightList {
+    /// Gathers the lights of `scene`.
+    pub fn build(scene: &Scene) -> LightList {
+        let mut w = Walker {
+            scene,
+            found: Vec::new(),
+            unsampled: vec![false; scene.materials.len()],
+        };
+        for node in &scene.objects {
+            w.node(node, Affine3A::IDENTITY, 0);
+        }
+        let mut weight: Vec<Option<f32>> = scene
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| match *m {
+                Material::Light { emit, .. } if !w.unsampled[i] => match scene.texture(emit) {
+                    Texture::Solid(c) => Some(luminance(*c)).filter(|l| *l > 0.0),
+                    _ => None,
+                },
+                _ => None,
+            })
+            .collect();
+        let lights: Vec<Light> = w
+            .found
+            .into_iter()
+            .filter(|l| {
+                let a = l.shape.area();
+                a > 0.0 && a.is_finite() && weight[l.material.0 as usize].is_some()
+            })
+            .collect();
+        let mut cdf = Vec::with_capacity(lights.len());
+        let mut total = 0.0f32;
+        for l in &lights {
+            total += weight[l.material.0 as usize].unwrap_or(0.0) * l.shape.area();
+            cdf.push(total);
+        }
+        for (i, wgt) in weight.iter_mut().enumerate() {
+            if !lights.iter().any(|l| l.material.0 as usize == i) {
+                *wgt = None;
+            }
+        }
+        LightList {
+            lights,
+            cdf,
+            total,
+            weight,
+        }
+    }
+
+    /// The sampled lights.
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lights.is_empty()
+    }
+
+    /// Whether next-event estimation can reach shapes of `material`.
+    #[inline]
+    pub fn is_sampled(&self, material: MaterialId) -> bool {
+        matches!(self.weight.get(material.0 as usize), Some(Some(_)))
+    }
+
+    /// Samples a light point seen from `p`; `None` if the chosen point emits
+    /// nothing towards `p`.
+    pub fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<LightSample> {
+        let u = rng.next_f32() * self.total;
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.lights.len() - 1);
+        let light = &self.lights[i];
+        let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
+        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        let (x, n, pdf) = match light.shape {
+            LightShape::Sphere { center, radius } => {
+                let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
+                (x, (x - center) / radius, pdf)
+            }
+            LightShape::Parallelogram {
+                corner,
+                edges,
+                normal,
+            } => {
+                let x = corner + u1 * edges.0 + u2 * edges.1;
+                (
+                    x,
+                    normal,
+                    area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
+                )
+            }
+            LightShape::Triangle { v, normal } => {
+                let s = u1.sqrt();
+                let x = (1.0 - s) * v[0] + s * (1.0 - u2) * v[1] + s * u2 * v[2];
+                (
+                    x,
+                    normal,
+                    area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
+                )
+            }
+        };
+        let to = x - p;
+        let dist = to.length();
+        let dir = to / dist;
+        if !light.two_sided && n.dot(dir) >= 0.0 {
+            return None;
+        }
+        Some(LightSample {
+            dir,
+            dist,
+            emitted: light.emit,
+            pdf: pdf * select,
+        })
+    }
+
+    /// The solid-angle density with which [`LightList::sample`] from `p`
+    /// picks the point `x` (normal `n`) of a light of `material`.
+    pub fn pdf(&self, material: MaterialId, p: Vec3, x: Vec3, n: Vec3) -> f32 {
+        let Some(Some(w)) = self.weight.get(material.0 as usize) else {
+            return 0.0;
+        };
+        let sphere = self
+            .lights
+            .iter()
+            .filter(|l| l.material == material)
+            .filter_map(|l| match l.shape {
+                LightShape::Sphere { center, radius } => {
+                    let miss = ((x - center).length() - radius).abs();
+                    (miss <= 1e-3 * radius.max(1e-3)).then_some((center, radius))
+                }
+                _ => None,
+            })
+            .next();
+        match sphere {
+            Some((center, radius)) => {
+                let select = w * 2.0 * TAU * radius * radius / self.total;
+                select * sphere_pdf(center, radius, p, x)
+            }
+            None => area_to_solid_angle(w / self.total, p, x, n).unwrap_or(0.0),
+        }
+    }
+}
+
+/// Relative luminance of linear RGB.
+fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// Converts an area density at `x` (normal `n`) to solid angle seen from `p`.
+fn area_to_solid_angle(pdf_area: f32, p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
+    let to = x - p;
+    let d2 = to.length_squared();
+    let cos = (n.dot(to) / d2.sqrt()).abs();
+    (cos > 1e-7 && d2 > 0.0).then(|| pdf_area * d2 / cos)
+}
+
+/// `1 − cos θmax` of the cone a sphere subtends from `p`, if `p` is outside.
+fn cone_extent(center: Vec3, radius: f32, p: Vec3) -> Option<f32> {
+    let d2 = (center - p).length_squared();
+    let sin2 = radius * radius / d2;
+    if sin2 >= 1.0 {
+        return None;
+    }
+    let cos_max = (1.0 - sin2).sqrt();
+    Some(sin2 / (1.0 + cos_max))
+}
+
+/// A point of the sphere seen from `p` and its solid-angle density: uniform
+/// in the cone it subtends from outside, uniform on the surface from inside.
+fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option<(Vec3, f32)> {
+    let Some(extent) = cone_extent(center, radius, p) else {
+        let z = 1.0 - 2.0 * u1;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let (s, c) = (TAU * u2).sin_cos();
+        let x = center + radius * Vec3::new(r * c, r * s, z);
+        let pdf = area_to_solid_angle(
+            1.0 / (2.0 * TAU * radius * radius),
+            p,
+            x,
+            (x - center) / radius,
+        )?;
+        return Some((x, pdf));
+    };
+    let axis = (center - p).normalize();
+    let one_minus_cos = u1 * extent;
+    let cos = 1.0 - one_minus_cos;
+    let sin = (one_minus_cos * (2.0 - one_minus_cos)).max(0.0).sqrt();
+    let (t, b) = axis.any_orthonormal_pair();
+    let (s, c) = (TAU * u2).sin_cos();
+    let dir = sin * c * t + sin * s * b + cos * axis;
+    let oc = p - center;
+    let half_b = oc.dot(dir);
+    let disc = (half_b * half_b - (oc.length_squared() - radius * radius)).max(0.0);
+    let t_hit = -half_b - disc.sqrt();
+    let x = p + t_hit.max(0.0) * dir;
+    Some((x, 1.0 / (TAU * extent)))
+}
+
+/// The solid-angle density of [`sample_sphere`] for the point `x`.
+fn sphere_pdf(center: Vec3, radius: f32, p: Vec3, x: Vec3) -> f32 {
+    match cone_extent(center, radius, p) {
+        Some(extent) => 1.0 / (TAU * extent),
+        None => area_to_solid_angle(
+            1.0 / (2.0 * TAU * radius * radius),
+            p,
+            x,
+            (x - center) / radius,
+        )
+        .unwrap_or(0.0),
+    }
+}
+
+/// The uniform scale of a similarity transform, if `m` is one.
+fn uniform_scale(m: Mat3A) -> Option<f32> {
+    let (a, b, c) = (m.x_axis, m.y_axis, m.z_axis);
+    let s = a.length();
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * s.max(1e-12);
+    let orthogonal =
+        close(a.dot(b) / s, 0.0) && close(a.dot(c) / s, 0.0) && close(b.dot(c) / s, 0.0);
+    (orthogonal && close(b.length(), s) && close(c.length(), s) && s > 0.0).then_some(s)
+}
+
+impl Walker<'_> {
+    fn mark(&mut self, material: MaterialId) {
+        if let Some(u) = self.unsampled.get_mut(material.0 as usize) {
+            *u = true;
+        }
+    }
+
+    /// The emission of `material`, if it is a light.
+    fn emitter(&self, material: MaterialId) -> Option<(Vec3, bool)> {
+        match self.scene.materials.get(material.0 as usize)? {
+            Material::Light { emit, two_sided } => {
+                let c = match self.scene.texture(*emit) {
+                    Texture::Solid(c) => *c,
+                    _ => Vec3::ZERO,
+                };
+                Some((c, *two_sided))
+            }
+            _ => None,
+        }
+    }
+
+    fn push(&mut self, shape: LightShape, material: MaterialId) {
+        if let Some((emit, two_sided)) = self.emitter(material) {
+            self.found.push(Light {
+                shape,
+                material,
+                emit,
+                two_sided,
+            });
+        }
+    }
+
+    /// Marks every light material below `node` as unsampled.
+    fn mark_all(&mut self, node: &Node, depth: u32) {
+        if depth > MAX_NESTING {
+            return;
+        }
+        match node {
+            Node::Shape { material, .. } => self.mark(*material),
+            Node::Mesh { materials, .. } => materials.iter().for_each(|m| self.mark(*m)),
+            Node::Group(children) => children.iter().for_each(|c| self.mark_all(c, depth + 1)),
+            Node::Transform { child, .. } | Node::Motion { child, .. } => {
+                self.mark_all(child, depth + 1)
+            }
+            Node::Medium { .. } => {}
+            Node::Instance(id) => {
+                if let Some(n) = self.scene.prototypes.get(id.0 as usize) {
+                    self.mark_all(n, depth + 1);
+                }
+            }
+        }
+    }
+
+    fn node(&mut self, node: &Node, m: Affine3A, depth: u32) {
+        if depth > MAX_NESTING {
+            self.mark_all(node, 0);
+            return;
+        }
+        match node {
+            Node::Shape { shape, material } => {
+                if self.emitter(*material).is_some() {
+                    self.shape(shape, *material, m);
+                }
+            }
+            Node::Mesh { mesh, materials } => self.mesh(mesh.0 as usize, materials, m),
+            Node::Group(children) => children.iter().for_each(|c| self.node(c, m, depth + 1)),
+            Node::Transform { matrix, child } => {
+                self.node(child, m * Affine3A::from_mat4(*matrix), depth + 1)
+            }
+            Node::Motion { child, .. } => self.mark_all(child, depth + 1),
+            Node::Medium { .. } => {}
+            Node::Instance(id) => {
+                if let Some(n) = self.scene.prototypes.get(id.0 as usize) {
+                    self.node(n, m, depth + 1);
+                }
+            }
+        }
+    }
+
+    fn shape(&mut self, shape: &Shape, material: MaterialId, m: Affine3A) {
+        let normal_of = |n: Vec3| (m.matrix3.inverse().transpose() * n).normalize_or_zero();
+        match shape {
+            Shape::Rect { plane, a, b, k } => {
+                let (axis, s0, s1) = match plane {
+                    RectPlane::Xy => (2, 0, 1),
+                    RectPlane::Xz => (1, 0, 2),
+                    RectPlane::Yz => (0, 1, 2),
+                };
+                let mut corner = Vec3::ZERO;
+                corner[axis] = *k;
+                corner[s0] = a.0.min(a.1);
+                corner[s1] = b.0.min(b.1);
+                let mut e0 = Vec3::ZERO;
+                e0[s0] = (a.1 - a.0).abs();
+                let mut e1 = Vec3::ZERO;
+                e1[s1] = (b.1 - b.0).abs();
+                let mut n = Vec3::ZERO;
+                n[axis] = 1.0;
+                let shape = LightShape::Parallelogram {
+                    corner: m.transform_point3(corner),
+                    edges: (m.transform_vector3(e0), m.transform_vector3(e1)),
+                    normal: normal_of(n),
+                };
+                self.push(shape, material);
+            }
+            Shape::Triangle { vertices } => {
+                let [a, b, c] = *vertices;
+                let n = (b - a).cross(c - a).normalize_or_zero();
+                let v = vertices.map(|p| m.transform_point3(p));
+                self.push(
+                    LightShape::Triangle {
+                        v,
+                        normal: normal_of(n),
+                    },
+                    material,
+                );
+            }
+            Shape::Sphere { center, radius } => match uniform_scale(m.matrix3) {
+                Some(s) => self.push(
+                    LightShape::Sphere {
+                        center: m.transform_point3(*center),
+                        radius: radius.abs() * s,
+                    },
+                    material,
+                ),
+                None => self.mark(material),
+            },
+            Shape::Cuboid { .. } | Shape::Plane { .. } | Shape::Revolution { .. } => {
+                self.mark(material)
+            }
+        }
+    }
+
+    fn mesh(&mut self, mesh: usize, materials: &[MaterialId], m: Affine3A) {
+        if materials.iter().all(|id| self.emitter(*id).is_none()) {
+            return;
+        }
+        let Some(data) = self.scene.meshes.get(mesh).cloned() else {
+            return;
+        };
+        let normal_matrix = m.matrix3.inverse().transpose();
+        for (i, tri) in data.triangles.iter().enumerate() {
+            let slot = data.triangle_material.get(i).copied().unwrap_or(0) as usize;
+            let Some(&material) = materials.get(slot.min(materials.len() - 1)) else {
+                continue;
+            };
+            if self.emitter(material).is_none() {
+                continue;
+            }
+            let Some(p) = tri
+                .map(|k| data.positions.get(k as usize).copied())
+                .into_iter()
+                .collect::<Option<Vec<Vec3>>>()
+            else {
+                continue;
+            };
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            self.push(
+                LightShape::Triangle {
+                    v: [p[0], p[1], p[2]].map(|q| m.transform_point3(q)),
+                    normal: (normal_matrix * n).normalize_or_zero(),
+                },
+                material,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::scenes::cornell_box;
+
+    #[test]
+    fn the_cornell_lamp_is_one_downward_parallelogram() {
+        let scene = cornell_box(16, 1);
+        let list = LightList::build(&scene);
+        assert_eq!(list.lights().len(), 1);
+        match list.lights()[0].shape {
+            LightShape::Parallelogram { normal, .. } => {
+                assert!((normal - Vec3::NEG_Y).length() < 1e-6, "{normal}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A scene holding `shape` as a two-sided unit light under `matrix`.
+    fn one_light(shape: Shape, matrix: Mat4) -> (Scene, MaterialId) {
+        let mut scene = Scene::default();
+        let t = scene.add_texture(Texture::Solid(Vec3::ONE));
+        let id = scene.add_material(Material::Light {
+            emit: t,
+            two_sided: true,
+        });
+        scene.objects.push(Node::Transform {
+            matrix,
+            child: Box::new(Node::Shape {
+                shape,
+                material: id,
+            }),
+        });
+        (scene, id)
+    }
+
+    /// Samples from `p`: the density agrees with `pdf`, and the mean of
+    /// 1/pdf is the solid angle the light subtends.
+    fn mean_inverse_pdf(
+        list: &LightList,
+        id: MaterialId,
+        p: Vec3,
+        normal_at: impl Fn(Vec3) -> Vec3,
+    ) -> f64 {
+        let mut rng = Rng::for_sample(1, 0, 0, 0);
+        let n = 40_000;
+        let mut sum = 0.0f64;
+        for _ in 0..n {
+            let s = list.sample(p, &mut rng).expect("visible");
+            let x = p + s.dir * s.dist;
+            let again = list.pdf(id, p, x, normal_at(x));
+            assert!(
+                (again - s.pdf).abs() <= 2e-3 * s.pdf,
+                "{again} vs {}",
+                s.pdf
+            );
+            sum += 1.0 / s.pdf as f64;
+        }
+        sum / n as f64
+    }
+
+    #[test]
+    fn sphere_cone_sampling_covers_the_subtended_solid_angle() {
+        let c = Vec3::new(0.0, 0.0, 6.0);
+        let (scene, id) = one_light(
+            Shape::Sphere {
+                center: Vec3::new(0.0, 0.0, 3.0),
+                radius: 1.0,
+            },
+            Mat4::from_scale(Vec3::splat(2.0)),
+        );
+        let list = LightList::build(&scene);
+        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |x| (x - c).normalize());
+        let cos_max = (1.0f64 - 4.0 / 36.0).sqrt();
+        let solid = std::f64::consts::TAU * (1.0 - cos_max);
+        assert!((got - solid).abs() < 2e-3 * solid, "{got} vs {solid}");
+    }
+
+    #[test]
+    fn a_transformed_rect_integrates_its_solid_angle() {
+        // The unit square at z = 1 seen from the origin subtends 4·asin(1/3)... of
+        // a 2×2 square centred on the axis: 4·asin(1/3)·... use the closed form
+        // Ω = 4·atan(ab / (d·sqrt(a² + b² + d²))) with half sides a = b = 1.
+        let (scene, id) = one_light(
+            Shape::Rect {
+                plane: RectPlane::Xy,
+                a: (-0.5, 0.5),
+                b: (-0.5, 0.5),
+                k: 0.5,
+            },
+            Mat4::from_scale(Vec3::splat(2.0)),
+        );
+        let list = LightList::build(&scene);
+        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |_| Vec3::Z);
+        let solid = 4.0 * (1.0f64 / 3.0f64.sqrt()).atan();
+        assert!((got - solid).abs() < 1e-2 * solid, "{got} vs {solid}");
+    }
+
+    #[test]
+    fn one_sided_lights_emit_only_in_front_and_moving_ones_are_not_sampled() {
+        let (scene, _) = one_light(
+            Shape::Rect {
+                plane: RectPlane::Xy,
+                a: (-1.0, 1.0),
+                b: (-1.0, 1.0),
+                k: 1.0,
+            },
+            Mat4::IDENTITY,
+        );
+        let mut one_sided = scene.clone();
+        one_sided.materials[0] = Material::Light {
+            emit: crate::scene::TextureId(0),
+            two_sided: false,
+        };
+        let list = LightList::build(&one_sided);
+        let mut rng = Rng::for_sample(2, 0, 0, 0);
+        assert!(list.sample(Vec3::ZERO, &mut rng).is_none());
+        assert!(list.sample(Vec3::new(0.0, 0.0, 2.0), &mut rng).is_some());
+        let mut moving = scene;
+        let child = moving.objects.remove(0);
+        moving.objects.push(Node::Motion {
+            motion: crate::scene::Motion::default(),
+            child: Box::new(child),
+        });
+        let list = LightList::build(&moving);
+        assert!(list.is_empty());
+        assert!(!list.is_sampled(MaterialId(0)));
+    }
+}

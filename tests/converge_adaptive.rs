@@ -1,0 +1,83 @@
+//! Adaptive sampling, time budgets and the radiance clamp: the clamp caps
+//! samples and is off by default; `noise` stops pixels between the first
+//! round and the cap, deterministically for any thread count; without it
+//! every pixel traces exactly `spp`; a zero time budget runs one 1-spp round.
+
+use std::time::Duration;
+
+use rtlang::geometry::World;
+use rtlang::render::adaptive::{render_for, FIRST_ROUND};
+use rtlang::render::scenes::cornell_box;
+use rtlang::render::{render, RenderOptions};
+
+#[test]
+fn the_clamp_caps_every_pixel_and_is_off_by_default() {
+    let scene = cornell_box(24, 8);
+    let world = World::build(&scene).expect("builds");
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    assert_eq!(options.clamp, None);
+    let free = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert!(
+        free.pixels.iter().any(|p| p.max_element() > 1.0),
+        "the lamp is brighter than 1"
+    );
+    options.clamp = Some(1.0);
+    let capped = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert!(capped.pixels.iter().all(|p| p.max_element() <= 1.0 + 1e-6));
+    options.clamp = Some(0.0);
+    assert!(render(&scene, &world, &options, &|_| {}).is_err());
+}
+
+#[test]
+fn without_a_noise_target_every_pixel_traces_spp() {
+    let scene = cornell_box(20, 5);
+    let world = World::build(&scene).expect("builds");
+    let out = render(
+        &scene,
+        &world,
+        &RenderOptions::from_settings(&scene.settings),
+        &|_| {},
+    )
+    .expect("renders");
+    assert_eq!((out.stats.spp_min, out.stats.spp_max), (5, 5));
+    assert_eq!(out.stats.samples, 20 * 20 * 5);
+}
+
+#[test]
+fn a_noise_target_stops_pixels_early_and_stays_deterministic() {
+    let scene = cornell_box(24, 512);
+    let world = World::build(&scene).expect("builds");
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    options.noise = Some(0.1);
+    options.threads = Some(1);
+    let one = render(&scene, &world, &options, &|_| {}).expect("renders");
+    options.threads = Some(2);
+    let two = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert_eq!(one.pixels, two.pixels);
+    assert_eq!(one.stats.samples, two.stats.samples);
+    let s = one.stats;
+    assert!(s.spp_min >= FIRST_ROUND && s.spp_max <= 512, "{s:?}");
+    assert!(s.spp_min < s.spp_max, "{s:?}");
+    assert!(s.samples < 24 * 24 * 512, "{s:?}");
+    // A looser target traces fewer samples.
+    options.noise = Some(0.3);
+    let loose = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert!(loose.stats.samples < s.samples);
+    options.noise = Some(-1.0);
+    assert!(render(&scene, &world, &options, &|_| {}).is_err());
+}
+
+#[test]
+fn a_zero_time_budget_renders_one_sample_per_pixel() {
+    let scene = cornell_box(16, 64);
+    let world = World::build(&scene).expect("builds");
+    let options = RenderOptions::from_settings(&scene.settings);
+    let (out, reached) =
+        render_for(&scene, &world, &options, Duration::ZERO, &|_| {}).expect("renders");
+    assert_eq!((reached.spp, reached.rounds), (1, 1));
+    let mut one = options.clone();
+    one.spp = 1;
+    let direct = render(&scene, &world, &one, &|_| {}).expect("renders");
+    assert_eq!(out.pixels, direct.pixels);
+    assert_eq!((out.stats.spp_min, out.stats.spp_max), (1, 1));
+}
