@@ -355,7 +355,7 @@ impl Walker<'_> {
             Node::Shape { material, .. } => self.mark(*material),
             Node::Mesh { materials, .. } => materials.iter().for_each(|m| self.mark(*m)),
             Node::Group(children) => children.iter().for_each(|c| self.mark_all(c, depth + 1)),
-            Node::Transform { child, .. } | Node::Motion { child, .. } => {
+            Node::Transform { child, .. } | Node::Motion { child, .. } | Node::Flip(child) => {
                 self.mark_all(child, depth + 1)
             }
             Node::Medium { .. } => {}
@@ -384,11 +384,31 @@ impl Walker<'_> {
                 self.node(child, m * Affine3A::from_mat4(*matrix), depth + 1)
             }
             Node::Motion { child, .. } => self.mark_all(child, depth + 1),
+            Node::Flip(child) => self.flipped(child, m, depth + 1),
             Node::Medium { .. } => {}
             Node::Instance(id) => {
                 if let Some(n) = self.scene.prototypes.get(id.0 as usize) {
                     self.node(n, m, depth + 1);
                 }
+            }
+        }
+    }
+
+    /// Lights below a `flip`: flat emitters face the other way; a one-sided
+    /// sphere would emit inwards, which light sampling does not model, so
+    /// its material is left to paths that hit it.
+    fn flipped(&mut self, child: &Node, m: Affine3A, depth: u32) {
+        let first = self.found.len();
+        self.node(child, m, depth);
+        let added: Vec<Light> = self.found.drain(first..).collect();
+        for mut light in added {
+            match &mut light.shape {
+                LightShape::Parallelogram { normal, .. } | LightShape::Triangle { normal, .. } => {
+                    *normal = -*normal;
+                    self.found.push(light);
+                }
+                LightShape::Sphere { .. } if light.two_sided => self.found.push(light),
+                LightShape::Sphere { .. } => self.mark(light.material),
             }
         }
     }
