@@ -23,8 +23,8 @@ use rtlang::render::{render, RenderOptions};
 
 const SIZE: u32 = 64;
 const BLOCK: u32 = 8;
-const SPP: u32 = 64;
-const PASSES: u64 = 16;
+const SPP: u32 = 256;
+const PASSES: u64 = 8;
 const PASS_SEED: u64 = 1000;
 const THUMB_SEED: u64 = 7;
 /// 64 blocks × 3 channels per scene, 8 scenes: with Gaussian block means a
