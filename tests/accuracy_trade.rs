@@ -95,10 +95,12 @@ fn vase_mesh_resolutions_against_analytic() {
         .expect("writes the plot");
 
     // The claims of docs/accuracy.md: finer meshes are closer to the surface,
-    // and the analytic mode is closer than the finest mesh.
+    // and the analytic mode at tolerance 1e-4 is closer on average than the
+    // finest mesh (its worst hits are not: see the document).
     for pair in mesh.windows(2) {
         assert!(pair[1].mean_error < pair[0].mean_error, "{pair:?}");
     }
     let finest = mesh.last().expect("mesh rows");
-    assert!(analytic_rows.iter().all(|r| r.max_error < finest.max_error));
+    let tight = analytic_rows.last().expect("analytic rows");
+    assert!(tight.mean_error < finest.mean_error, "{tight:?} {finest:?}");
 }
