@@ -1,6 +1,7 @@
-//! Meshes and instances through the scene builder: watertightness at shared
-//! edges and vertices, rays leaving a mesh far from the origin, static
-//! transforms with normals, and one prototype placed many times.
+//! Meshes and instances through the scene builder: rays leaving a mesh far
+//! from the origin, static transforms with normals, and one prototype placed
+//! many times. Watertightness at shared edges and vertices is
+//! `geometry_watertight.rs`.
 
 use std::sync::Arc;
 
@@ -68,57 +69,6 @@ fn mesh_scene(mesh: MeshData) -> (Scene, Arc<MeshData>) {
         materials: vec![m],
     }];
     (s, mesh)
-}
-
-#[test]
-#[ignore = "known failure under investigation: a ray through a vertex whose fan has collinear edges misses all six triangles"]
-fn rays_at_shared_edges_and_vertices_never_slip_through() {
-    let center = Vec3::new(0.3, -0.2, 0.1);
-    let (scene, mesh) = mesh_scene(ball(3, center, 1.0));
-    let world = World::build(&scene).expect("builds");
-    let mut rng = Rng::for_sample(1, 0, 0, 0);
-    let mut targets = mesh.positions.clone();
-    for [a, b, _] in &mesh.triangles {
-        let (pa, pb) = (mesh.positions[*a as usize], mesh.positions[*b as usize]);
-        targets.push((pa + pb) / 2.0);
-        targets.push(pa * 0.25 + pb * 0.75);
-    }
-    let mut fired = 0;
-    for target in targets {
-        for _ in 0..8 {
-            let origin = center + rng.unit_vector() * 3.0;
-            let ray = Ray::new(origin, target - origin, 0.0);
-            let hit = world.intersect(&ray, 0.0, f32::INFINITY, &mut rng);
-            if hit.is_none() {
-                let sr = rtlang::geometry::shapes::triangle::ShearedRay::new(&ray);
-                let brute = mesh
-                    .triangles
-                    .iter()
-                    .filter(|t| {
-                        sr.intersect(t.map(|i| mesh.positions[i as usize]), 0.0, f32::INFINITY)
-                            .is_some()
-                    })
-                    .count();
-                let near: Vec<_> = mesh
-                    .triangles
-                    .iter()
-                    .filter(|t| {
-                        t.iter()
-                            .any(|&i| (mesh.positions[i as usize] - target).length() < 1e-6)
-                    })
-                    .map(|t| t.map(|i| mesh.positions[i as usize]))
-                    .collect();
-                panic!("ray from {origin} at {target} slipped through; brute force hits {brute}; fan {near:?}");
-            }
-            // From inside, towards the same point: must hit too.
-            let inside = Ray::new(center, target - center, 0.0);
-            assert!(world
-                .intersect(&inside, 0.0, f32::INFINITY, &mut rng)
-                .is_some());
-            fired += 1;
-        }
-    }
-    assert!(fired > 5000);
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! From geometry to pixels: sampling, camera rays, materials, the path
 //! tracing integrator, the film, tiles over threads, and image output.
 
+pub mod accuracy;
 pub mod adaptive;
 pub mod camera;
 pub mod convergence;

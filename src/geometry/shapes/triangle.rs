@@ -2,6 +2,11 @@
 //! ray is sheared onto the +z axis once, and edge functions decide coverage,
 //! falling back to f64 when one is exactly zero, so rays aimed at a shared
 //! edge or vertex of a closed mesh hit at least one of its triangles.
+//! The float edge functions have the exact sign or are 0 (rounding is
+//! monotonic), so coverage is decided exactly for the sheared, rounded
+//! vertices, which every triangle of a mesh shares. A ray that only touches
+//! a silhouette vertex or edge may still miss: after rounding it passes
+//! beside the surface without entering it, which is no hole.
 
 use glam::{DVec2, Vec2, Vec3};
 
