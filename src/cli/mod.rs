@@ -4,8 +4,10 @@
 mod check;
 mod compare;
 mod gen;
+mod merge;
 mod parse;
 mod render;
+mod split;
 
 use std::process::ExitCode;
 
@@ -31,6 +33,8 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Generate the project's procedural assets (textures, meshes).
     Gen(gen::GenArgs),
+    /// Join rendered tiles and passes into one image.
+    Merge(merge::MergeArgs),
 }
 
 /// Parses the command line and runs the chosen command.
@@ -42,6 +46,7 @@ pub fn run() -> ExitCode {
         Command::Parse(args) => parse::run(args),
         Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
+        Command::Merge(args) => merge::run(&args),
     }
 }
 

@@ -2,14 +2,21 @@
 //! tracing integrator, the film, tiles over threads, and image output.
 
 pub mod camera;
+pub mod checkpoint;
+pub mod film;
 pub mod integrator;
+pub mod interrupt;
 pub mod material;
+pub mod merge;
 pub mod options;
 pub mod output;
+pub mod piece;
+pub mod progress;
 pub mod rng;
 pub mod scenes;
 pub mod texture;
 pub mod tiles;
 
 pub use options::{Crop, RenderOptions};
-pub use tiles::{render, RenderError, RenderOutput, RenderStats};
+pub use film::Film;
+pub use tiles::{render, render_film, Hooks, RenderError, RenderOutput, RenderStats};

@@ -12,6 +12,16 @@ pub struct Crop {
     pub y1: u32,
 }
 
+impl Crop {
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+}
+
 /// Everything that decides the pixels besides the scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderOptions {
@@ -23,6 +33,9 @@ pub struct RenderOptions {
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
     pub crop: Option<Crop>,
+    /// Independent sample set: pass `p` takes the sample indices
+    /// `p·spp .. (p+1)·spp` of every pixel's stream.
+    pub pass: u32,
 }
 
 /// Why options cannot be rendered.
@@ -43,6 +56,8 @@ pub enum OptionsError {
     },
     #[error("{0} threads requested; need at least 1")]
     NoThreads(usize),
+    #[error("pass {pass} of {spp} spp needs sample indices beyond 2^32")]
+    PassTooLarge { pass: u32, spp: u32 },
 }
 
 impl RenderOptions {
@@ -56,6 +71,7 @@ impl RenderOptions {
             seed: s.seed,
             threads: None,
             crop: None,
+            pass: 0,
         }
     }
 
@@ -70,6 +86,12 @@ impl RenderOptions {
         }
         if self.threads == Some(0) {
             return Err(OptionsError::NoThreads(0));
+        }
+        if self.first_sample().is_none() {
+            return Err(OptionsError::PassTooLarge {
+                pass: self.pass,
+                spp: self.spp,
+            });
         }
         let whole = Crop {
             x0: 0,
@@ -89,5 +111,12 @@ impl RenderOptions {
             });
         }
         Ok(c)
+    }
+
+    /// The first sample index of this pass: `pass · spp`, if every index of
+    /// the pass fits the stream's 32-bit sample counter.
+    pub fn first_sample(&self) -> Option<u32> {
+        let first = self.pass.checked_mul(self.spp)?;
+        first.checked_add(self.spp).map(|_| first)
     }
 }
