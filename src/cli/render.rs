@@ -4,7 +4,7 @@
 //! the image and its sidecar — also when a signal stops the render (exit
 //! 130). Orchestration only; the work is in `lang`, `geometry` and `render`.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
@@ -112,7 +112,6 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
     })
 }
 
-
 fn fail(message: impl std::fmt::Display) -> Failure {
     eprintln!("error: {message}");
     Failure::Error
@@ -215,10 +214,14 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
     };
     let (fnum, pass) = (frame as f64, options.pass);
     let tile_done = |n: u64| {
-        let done = meter.add(n);
         bar.inc(n);
         if mode == Progress::Json {
-            println!("{}", meter.report("tile", fnum, pass, done).json());
+            // Holding stdout while counting keeps the lines in order.
+            let mut out = std::io::stdout().lock();
+            let done = meter.add(n);
+            let _ = writeln!(out, "{}", meter.report("tile", fnum, pass, done).json());
+        } else {
+            meter.add(n);
         }
     };
     let mut last_save = Instant::now();

@@ -31,10 +31,16 @@ pub struct Header {
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum CheckpointError {
     #[error("cannot write checkpoint `{}`: {message}", path.display())]
-    #[diagnostic(code(rtlang::checkpoint::write), help("check that the folder exists and is writable"))]
+    #[diagnostic(
+        code(rtlang::checkpoint::write),
+        help("check that the folder exists and is writable")
+    )]
     Write { path: PathBuf, message: String },
     #[error("cannot read checkpoint `{}`: {message}", path.display())]
-    #[diagnostic(code(rtlang::checkpoint::read), help("the file must be a checkpoint written by `rtlang render --checkpoint`"))]
+    #[diagnostic(
+        code(rtlang::checkpoint::read),
+        help("the file must be a checkpoint written by `rtlang render --checkpoint`")
+    )]
     Read { path: PathBuf, message: String },
     #[error("checkpoint `{}` belongs to another render: its {field} is {saved}, this render's is {now}", path.display())]
     #[diagnostic(
@@ -122,13 +128,29 @@ fn check_matches(path: &Path, saved: &Header, now: &Header) -> Result<(), Checkp
     let (a, b) = (&saved.piece, &now.piece);
     let fields: [(&'static str, String, String); 8] = [
         ("scene", a.scene.clone(), b.scene.clone()),
-        ("size", format!("{}×{}", a.width, a.height), format!("{}×{}", b.width, b.height)),
-        ("region", format!("{:?}", a.region), format!("{:?}", b.region)),
+        (
+            "size",
+            format!("{}×{}", a.width, a.height),
+            format!("{}×{}", b.width, b.height),
+        ),
+        (
+            "region",
+            format!("{:?}", a.region),
+            format!("{:?}", b.region),
+        ),
         ("seed", a.seed.to_string(), b.seed.to_string()),
-        ("max depth", a.max_depth.to_string(), b.max_depth.to_string()),
+        (
+            "max depth",
+            a.max_depth.to_string(),
+            b.max_depth.to_string(),
+        ),
         ("frame", a.frame.to_string(), b.frame.to_string()),
         ("pass", a.pass.to_string(), b.pass.to_string()),
-        ("first sample", saved.first_sample.to_string(), now.first_sample.to_string()),
+        (
+            "first sample",
+            saved.first_sample.to_string(),
+            now.first_sample.to_string(),
+        ),
     ];
     for (field, saved, now) in fields {
         if saved != now {

@@ -30,12 +30,17 @@ pub struct Merged {
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum MergeError {
     #[error("nothing to merge")]
-    #[diagnostic(code(rtlang::merge::empty), help("name the piece images (with their .json sidecars) to merge"))]
+    #[diagnostic(
+        code(rtlang::merge::empty),
+        help("name the piece images (with their .json sidecars) to merge")
+    )]
     Empty,
     #[error("`{}` and `{}` differ in {field}: {a} against {b}", first.display(), other.display())]
     #[diagnostic(
         code(rtlang::merge::mismatch),
-        help("every piece must come from the same scene file, defines, frame, size, seed and depth")
+        help(
+            "every piece must come from the same scene file, defines, frame, size, seed and depth"
+        )
     )]
     Mismatch {
         field: &'static str,
@@ -45,7 +50,10 @@ pub enum MergeError {
         b: String,
     },
     #[error("`{}` is {got_w}×{got_h} pixels but its sidecar gives a {want_w}×{want_h} region", path.display())]
-    #[diagnostic(code(rtlang::merge::size), help("the image and its .json sidecar must come from the same render"))]
+    #[diagnostic(
+        code(rtlang::merge::size),
+        help("the image and its .json sidecar must come from the same render")
+    )]
     PieceSize {
         path: PathBuf,
         got_w: u32,
@@ -58,12 +66,22 @@ pub enum MergeError {
         code(rtlang::merge::incomplete),
         help("finish it with `rtlang render ... --checkpoint FILE --resume`")
     )]
-    Incomplete { path: PathBuf, reached: u32, spp: u32 },
+    Incomplete {
+        path: PathBuf,
+        reached: u32,
+        spp: u32,
+    },
     #[error("the pieces hold passes {passes}, but --average was not given")]
-    #[diagnostic(code(rtlang::merge::passes), help("add --average to combine passes weighted by their spp"))]
+    #[diagnostic(
+        code(rtlang::merge::passes),
+        help("add --average to combine passes weighted by their spp")
+    )]
     Passes { passes: String },
     #[error("`{}` has {b} spp but `{}` of the same pass has {a}", other.display(), first.display())]
-    #[diagnostic(code(rtlang::merge::pass_spp), help("render every tile of a pass with the same --spp"))]
+    #[diagnostic(
+        code(rtlang::merge::pass_spp),
+        help("render every tile of a pass with the same --spp")
+    )]
     PassSpp {
         first: PathBuf,
         other: PathBuf,
@@ -71,7 +89,12 @@ pub enum MergeError {
         b: u32,
     },
     #[error("`{}` and `{}` overlap at pixel ({x}, {y}) in pass {pass}", first.display(), other.display())]
-    #[diagnostic(code(rtlang::merge::overlap), help("give each tile of a pass once; the same tile twice or two different tilings overlap"))]
+    #[diagnostic(
+        code(rtlang::merge::overlap),
+        help(
+            "give each tile of a pass once; the same tile twice or two different tilings overlap"
+        )
+    )]
     Overlap {
         first: PathBuf,
         other: PathBuf,
@@ -80,8 +103,16 @@ pub enum MergeError {
         y: u32,
     },
     #[error("pass {pass} is missing {missing} pixels, the first at ({x}, {y})")]
-    #[diagnostic(code(rtlang::merge::gap), help("render and include every tile 1/N … N/N of each pass"))]
-    Gap { pass: u32, missing: u64, x: u32, y: u32 },
+    #[diagnostic(
+        code(rtlang::merge::gap),
+        help("render and include every tile 1/N … N/N of each pass")
+    )]
+    Gap {
+        pass: u32,
+        missing: u64,
+        x: u32,
+        y: u32,
+    },
 }
 
 /// Merges `pieces`; with `average`, several passes are combined, each
@@ -132,9 +163,17 @@ fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
     let (a, b) = (&first.info, &p.info);
     let fields: [(&'static str, String, String); 5] = [
         ("scene", a.scene.clone(), b.scene.clone()),
-        ("image size", format!("{}×{}", a.width, a.height), format!("{}×{}", b.width, b.height)),
+        (
+            "image size",
+            format!("{}×{}", a.width, a.height),
+            format!("{}×{}", b.width, b.height),
+        ),
         ("seed", a.seed.to_string(), b.seed.to_string()),
-        ("max depth", a.max_depth.to_string(), b.max_depth.to_string()),
+        (
+            "max depth",
+            a.max_depth.to_string(),
+            b.max_depth.to_string(),
+        ),
         ("frame", a.frame.to_string(), b.frame.to_string()),
     ];
     for (field, va, vb) in fields {
@@ -154,7 +193,11 @@ fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
 fn check_piece(p: &Piece) -> Result<(), MergeError> {
     let c = p.info.crop();
     let inside = c.x0 < c.x1 && c.y0 < c.y1 && c.x1 <= p.info.width && c.y1 <= p.info.height;
-    let (w, h) = if inside { (c.width(), c.height()) } else { (0, 0) };
+    let (w, h) = if inside {
+        (c.width(), c.height())
+    } else {
+        (0, 0)
+    };
     if !inside || (p.width, p.height) != (w, h) {
         return Err(MergeError::PieceSize {
             path: p.path.clone(),

@@ -17,6 +17,6 @@ pub mod scenes;
 pub mod texture;
 pub mod tiles;
 
-pub use options::{Crop, RenderOptions};
 pub use film::Film;
+pub use options::{Crop, RenderOptions};
 pub use tiles::{render, render_film, Hooks, RenderError, RenderOutput, RenderStats};

@@ -93,12 +93,12 @@ impl PieceInfo {
             path: path.clone(),
             message: e.to_string(),
         })?;
-        super::output::write_atomically(&path, |w| Ok(w.write_all(text.as_bytes())?)).map_err(
-            |e| PieceError::Write {
+        super::output::write_atomically(&path, |w| Ok(w.write_all(text.as_bytes())?)).map_err(|e| {
+            PieceError::Write {
                 path: path.clone(),
                 message: e.to_string(),
-            },
-        )
+            }
+        })
     }
 }
 

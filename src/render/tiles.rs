@@ -13,8 +13,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::camera::CameraRays;
-use super::integrator::Tracer;
 use super::film::Film;
+use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
 use super::rng::Rng;
 use crate::geometry::World;
