@@ -6,8 +6,10 @@ mod check;
 mod compare;
 mod gen;
 mod inspect;
+mod merge;
 mod parse;
 mod render;
+mod split;
 
 use std::process::ExitCode;
 
@@ -37,6 +39,8 @@ enum Command {
     Gen(gen::GenArgs),
     /// Measure throughput, or error against time with `--convergence`.
     Bench(bench::BenchArgs),
+    /// Join rendered tiles and passes into one image.
+    Merge(merge::MergeArgs),
 }
 
 /// Parses the command line and runs the chosen command.
@@ -50,6 +54,7 @@ pub fn run() -> ExitCode {
         Command::Gen(args) => gen::run(args),
         Command::Inspect(args) => inspect::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Merge(args) => merge::run(&args),
     }
 }
 

@@ -1,18 +1,38 @@
-//! `rtlang render SCENE -o OUT`: loads the scene, applies command-line
-//! overrides, renders with a progress bar and writes the image. Orchestration
-//! only; the work is in `lang`, `geometry` and `render`.
+//! `rtlang render SCENE -o OUT`: loads the scene (at each animation frame),
+//! applies command-line overrides, picks the tile or crop and pass, resumes a
+//! checkpoint, renders with a progress bar or JSON progress lines, and writes
+//! the image and its sidecar — also when a signal stops the render (exit
+//! 130). Orchestration only; the work is in `lang`, `geometry` and `render`.
 
-use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use rtlang::geometry::World;
-use rtlang::render::adaptive::render_for;
+use rtlang::render::checkpoint::{self, Header};
 use rtlang::render::output::{write_image, Format};
-use rtlang::render::{render, Crop, RenderOptions};
+use rtlang::render::piece::PieceInfo;
+use rtlang::render::progress::Meter;
+use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
+
+use super::split::{self, Tile};
+
+/// How progress is shown.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Progress {
+    /// A progress bar on stderr when it is a terminal.
+    #[default]
+    Bar,
+    /// One JSON line per finished tile and per finished pass, on stdout.
+    Json,
+    /// Nothing.
+    None,
+}
 
 /// Arguments of `rtlang render`.
 #[derive(Args)]
@@ -41,12 +61,39 @@ pub struct RenderArgs {
     #[arg(long)]
     threads: Option<usize>,
     /// Render only pixels x0..x1 × y0..y1 (half-open).
-    #[arg(long, value_parser = parse_crop)]
+    #[arg(long, value_parser = parse_crop, conflicts_with = "tile")]
     crop: Option<Crop>,
+    /// Render the I-th of N bands of rows (1-based), e.g. `--tile 2/4`.
+    #[arg(long, value_parser = split::parse_tile, value_name = "I/N")]
+    tile: Option<Tile>,
+    /// Independent sample set K: sample indices K·spp .. (K+1)·spp.
+    #[arg(long, default_value_t = 0, value_name = "K")]
+    pass: u32,
+    /// Animation frame (the scene's `frame`).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "frames")]
+    frame: Option<i64>,
+    /// Frames A..B (both included); the output needs `{frame}` or `{frame:W}`.
+    #[arg(long, value_parser = split::parse_frames, value_name = "A..B")]
+    frames: Option<(i64, i64)>,
+    /// Frames per second (the scene's `fps`).
+    #[arg(long, default_value_t = 24.0)]
+    fps: f64,
+    /// Progress display.
+    #[arg(long, value_enum, default_value_t = Progress::Bar)]
+    progress: Progress,
+    /// Save the accumulated samples here periodically and at the end.
+    #[arg(long, value_name = "FILE")]
+    checkpoint: Option<PathBuf>,
+    /// Continue from the checkpoint (if it exists) to the requested spp.
+    #[arg(long, requires = "checkpoint")]
+    resume: bool,
+    /// Seconds between checkpoint saves.
+    #[arg(long, default_value_t = 60, value_name = "SECS")]
+    checkpoint_every: u64,
     /// Scene parameter override `name=value` (repeatable).
     #[arg(short = 'D', value_parser = super::parse_define)]
     define: Vec<(String, String)>,
-    /// No progress bar.
+    /// No progress bar (same as `--progress none`).
     #[arg(long)]
     quiet: bool,
     /// `nee`: light sampling with MIS (default); `path`: plain path tracing.
@@ -59,13 +106,22 @@ pub struct RenderArgs {
     /// (e.g. 0.02); `--spp` is then the per-pixel cap.
     #[arg(long)]
     noise: Option<f32>,
-    /// Render progressively until this much time is spent (`90s`, `2m`,
-    /// `500ms`); ignores `--spp`.
-    #[arg(long, value_parser = parse_duration, conflicts_with = "noise")]
-    time: Option<std::time::Duration>,
+    /// Render in rounds of samples until this much time is spent (`90s`,
+    /// `2m`, `500ms`); `--spp` (default: unbounded) caps it.
+    #[arg(long, value_parser = parse_duration, conflicts_with_all = ["noise", "checkpoint"])]
+    time: Option<Duration>,
 }
 
-fn parse_duration(s: &str) -> Result<std::time::Duration, String> {
+/// The integrator `--integrator` selects.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Integrator {
+    /// Plain unidirectional path tracing.
+    Path,
+    /// Next-event estimation with multiple importance sampling.
+    Nee,
+}
+
+fn parse_duration(s: &str) -> Result<Duration, String> {
     let s = s.trim();
     let split = s.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(s.len());
     let (number, unit) = s.split_at(split);
@@ -80,16 +136,7 @@ fn parse_duration(s: &str) -> Result<std::time::Duration, String> {
         "h" => value * 3600.0,
         _ => return Err(format!("unknown unit `{unit}`; use ms, s, m or h")),
     };
-    std::time::Duration::try_from_secs_f64(seconds).map_err(|e| e.to_string())
-}
-
-/// The integrator `--integrator` selects.
-#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Integrator {
-    /// Plain unidirectional path tracing.
-    Path,
-    /// Next-event estimation with multiple importance sampling.
-    Nee,
+    Duration::try_from_secs_f64(seconds).map_err(|e| e.to_string())
 }
 
 fn parse_crop(s: &str) -> Result<Crop, String> {
@@ -106,85 +153,248 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
     })
 }
 
-fn fail(message: impl std::fmt::Display) -> ExitCode {
+fn fail(message: impl std::fmt::Display) -> Failure {
     eprintln!("error: {message}");
-    ExitCode::FAILURE
+    Failure::Error
 }
+
+/// How a frame's render ended without finishing.
+enum Failure {
+    Error,
+    Interrupted,
+}
+
+/// Samples per pixel a `--time` render may reach when `--spp` sets no cap.
+const TIME_BUDGET_SPP_CAP: u32 = 1 << 20;
+
+/// The exit status of a render stopped by a signal (128 + SIGINT).
+const INTERRUPTED: u8 = 130;
 
 /// Runs the command.
 pub fn run(args: RenderArgs) -> ExitCode {
-    if let Err(e) = Format::from_path(&args.output) {
-        return fail(e);
+    match run_all(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Error) => ExitCode::FAILURE,
+        Err(Failure::Interrupted) => ExitCode::from(INTERRUPTED),
     }
-    let loaded = match rtlang::lang::load_scene(&args.scene, &args.define) {
-        Ok(l) => l,
-        Err(reports) => {
-            for r in reports {
-                eprintln!("{r:?}");
-            }
-            return ExitCode::FAILURE;
-        }
+}
+
+fn run_all(args: &RenderArgs) -> Result<(), Failure> {
+    Format::from_path(&args.output).map_err(fail)?;
+    let (first, last) = args
+        .frames
+        .unwrap_or((args.frame.unwrap_or(0), args.frame.unwrap_or(0)));
+    if last > first && !split::has_frame_pattern(&args.output) {
+        return Err(fail(format!(
+            "rendering frames {first}..{last} to the one file `{}`: put `{{frame}}` or `{{frame:4}}` in the output name",
+            args.output.display()
+        )));
+    }
+    let fallback = AtomicBool::new(false);
+    let stop = interrupt::stop_flag().unwrap_or_else(|e| {
+        eprintln!("warning: cannot catch interrupts ({e}); an interrupted render is lost");
+        &fallback
+    });
+    for frame in first..=last {
+        render_frame(args, frame, stop)?;
+    }
+    Ok(())
+}
+
+fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), Failure> {
+    let output = split::expand_frame(&args.output, frame).map_err(fail)?;
+    let checkpoint_path = match &args.checkpoint {
+        Some(c) => Some(split::expand_frame(c, frame).map_err(fail)?),
+        None => None,
     };
+    let lang_options = rtlang::lang::Options {
+        defines: args.define.clone(),
+        frame: frame as f64,
+        fps: args.fps,
+    };
+    let loaded = rtlang::lang::load_scene_with(&args.scene, &lang_options).map_err(|reports| {
+        for r in reports {
+            eprintln!("{r:?}");
+        }
+        Failure::Error
+    })?;
     for w in &loaded.warnings {
         eprintln!("{w:?}");
     }
     let scene = loaded.scene;
-    let mut options = RenderOptions::from_settings(&scene.settings);
+    let options = options_for(args, &scene.settings)?;
+    let region = options.region().map_err(fail)?;
+    let world = World::build(&scene).map_err(fail)?;
+    let header = Header {
+        piece: PieceInfo::new(&scene, &options, region, frame as f64, 0),
+        first_sample: options.first_sample().unwrap_or(0),
+    };
+    let mut film = match &checkpoint_path {
+        Some(path) if args.resume && path.exists() => {
+            checkpoint::load(path, &header).map_err(|e| {
+                eprintln!("{:?}", miette::Report::new(e));
+                Failure::Error
+            })?
+        }
+        _ => Film::new(region),
+    };
+    let pixels = region.width() as u64 * region.height() as u64;
+    let already: u64 = film.taken.iter().map(|&t| t as u64).sum();
+    let meter = Meter::new(pixels, options.spp, already);
+    let mode = if args.quiet && args.progress == Progress::Bar {
+        Progress::None
+    } else {
+        args.progress
+    };
+    let bar = if mode == Progress::Bar && std::io::stderr().is_terminal() {
+        let style =
+            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} ETA {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar());
+        ProgressBar::new(pixels * options.spp as u64)
+            .with_style(style)
+            .with_position(already)
+    } else {
+        ProgressBar::hidden()
+    };
+    let (fnum, pass) = (frame as f64, options.pass);
+    let tile_done = |n: u64| {
+        bar.inc(n);
+        if mode == Progress::Json {
+            // Holding stdout while counting keeps the lines in order.
+            let mut out = std::io::stdout().lock();
+            let done = meter.add(n);
+            let _ = writeln!(out, "{}", meter.report("tile", fnum, pass, done).json());
+        } else {
+            meter.add(n);
+        }
+    };
+    let mut last_save = Instant::now();
+    let every = Duration::from_secs(args.checkpoint_every);
+    let mut round_done = |film: &Film| {
+        if let Some(path) = &checkpoint_path {
+            if last_save.elapsed() >= every {
+                save_checkpoint(path, &header, film);
+                last_save = Instant::now();
+            }
+        }
+    };
+    // A time budget stops the render like a signal does, but is a success.
+    let budget_stop = AtomicBool::new(false);
+    let finished = AtomicBool::new(false);
+    let stats = std::thread::scope(|scope| {
+        let watched = match args.time {
+            Some(budget) => {
+                let start = Instant::now();
+                let (flag, finished) = (&budget_stop, &finished);
+                scope.spawn(move || {
+                    while !finished.load(Ordering::Relaxed) {
+                        if stop.load(Ordering::Relaxed) || start.elapsed() >= budget {
+                            flag.store(true, Ordering::Relaxed);
+                            return;
+                        }
+                        std::thread::sleep(Duration::from_millis(10));
+                    }
+                });
+                flag
+            }
+            None => stop,
+        };
+        let mut hooks = Hooks {
+            stop: watched,
+            tile_done: &tile_done,
+            round_done: &mut round_done,
+        };
+        let result = render_film(&scene, &world, &options, &mut film, &mut hooks);
+        finished.store(true, Ordering::Relaxed);
+        result
+    })
+    .map_err(fail)?;
+    bar.finish_and_clear();
+    let reached = film.spp_reached();
+    let interrupted = reached < options.spp && stop.load(Ordering::Relaxed);
+    if let Some(path) = &checkpoint_path {
+        save_checkpoint(path, &header, &film);
+    }
+    let info = PieceInfo {
+        spp_reached: reached,
+        ..header.piece.clone()
+    };
+    write_outputs(&output, &film, &info)?;
+    if mode == Progress::Json {
+        let event = if interrupted { "interrupted" } else { "pass" };
+        println!("{}", meter.report(event, fnum, pass, meter.done()).json());
+    }
+    let secs = stats.wall.as_secs_f64().max(1e-9);
+    eprintln!(
+        "{} {} in {:.2} s at {} of {} spp: {:.3} M samples/s, {:.3} M rays/s, {} dropped samples, {} Newton failures",
+        if interrupted { "interrupted; wrote" } else { "rendered" },
+        output.display(),
+        secs,
+        reached,
+        options.spp,
+        stats.samples as f64 / secs / 1e6,
+        stats.rays as f64 / secs / 1e6,
+        stats.dropped,
+        stats.newton_failures
+    );
+    if stats.spp_min != stats.spp_max || args.time.is_some() {
+        eprintln!(
+            "samples per pixel: {} to {}, mean {:.1}{}",
+            stats.spp_min,
+            stats.spp_max,
+            stats.samples as f64 / pixels.max(1) as f64,
+            if args.time.is_some() {
+                " (time budget spent)"
+            } else {
+                ""
+            }
+        );
+    }
+    if interrupted {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}
+
+/// The scene's settings with the command line's overrides.
+fn options_for(
+    args: &RenderArgs,
+    settings: &rtlang::scene::Settings,
+) -> Result<RenderOptions, Failure> {
+    let mut options = RenderOptions::from_settings(settings);
     options.spp = args.spp.unwrap_or(options.spp);
     options.width = args.width.unwrap_or(options.width);
     options.height = args.height.unwrap_or(options.height);
     options.max_depth = args.max_depth.unwrap_or(options.max_depth);
     options.seed = args.seed.unwrap_or(options.seed);
     options.threads = args.threads;
-    options.crop = args.crop;
+    options.pass = args.pass;
     options.light_sampling = args.integrator == Integrator::Nee;
     options.clamp = args.clamp;
     options.noise = args.noise;
-    let region = match options.region() {
-        Ok(r) => r,
-        Err(e) => return fail(e),
-    };
-    let world = match World::build(&scene) {
-        Ok(w) => w,
-        Err(e) => return fail(e),
-    };
-    let pixels = (region.x1 - region.x0) as u64 * (region.y1 - region.y0) as u64;
-    let bar = if args.quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let style =
-            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} ETA {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar());
-        ProgressBar::new(pixels).with_style(style)
-    };
-    let rendered = match args.time {
-        Some(budget) => render_for(&scene, &world, &options, budget, &|_| {}).map(|(o, _)| o),
-        None => render(&scene, &world, &options, &|n| bar.inc(n)),
-    };
-    let out = match rendered {
-        Ok(o) => o,
-        Err(e) => return fail(e),
-    };
-    bar.finish_and_clear();
-    if let Err(e) = write_image(&args.output, out.width, out.height, &out.pixels) {
-        return fail(e);
+    if args.time.is_some() {
+        options.spp = args.spp.unwrap_or(TIME_BUDGET_SPP_CAP);
     }
-    let s = out.stats;
-    let secs = s.wall.as_secs_f64().max(1e-9);
-    eprintln!(
-        "rendered {} in {:.2} s: {:.3} M samples/s, {:.3} M rays/s, {} dropped samples, {} Newton failures",
-        args.output.display(),
-        secs,
-        s.samples as f64 / secs / 1e6,
-        s.rays as f64 / secs / 1e6,
-        s.dropped,
-        s.newton_failures
-    );
-    eprintln!(
-        "samples per pixel: {} to {}, mean {:.1}",
-        s.spp_min,
-        s.spp_max,
-        s.samples as f64 / pixels.max(1) as f64
-    );
-    ExitCode::SUCCESS
+    options.crop = match args.tile {
+        Some(t) => Some(t.crop(options.width, options.height).ok_or_else(|| {
+            fail(format!(
+                "tile {}/{} is empty: the image has only {} rows",
+                t.index, t.count, options.height
+            ))
+        })?),
+        None => args.crop,
+    };
+    Ok(options)
+}
+
+fn save_checkpoint(path: &Path, header: &Header, film: &Film) {
+    if let Err(e) = checkpoint::save(path, header, film) {
+        eprintln!("warning: {:?}", miette::Report::new(e));
+    }
+}
+
+fn write_outputs(output: &Path, film: &Film, info: &PieceInfo) -> Result<(), Failure> {
+    let r = film.region;
+    write_image(output, r.width(), r.height(), &film.pixels()).map_err(fail)?;
+    info.write(output).map_err(fail)
 }

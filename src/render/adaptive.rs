@@ -82,7 +82,7 @@ pub fn render_for(
 ) -> Result<(RenderOutput, Progressive), RenderError> {
     let start = Instant::now();
     let mut round = options.clone();
-    round.first_sample = 0;
+    round.sample_offset = 0;
     round.spp = 1;
     let mut acc = render(scene, world, &round, progress)?;
     let mut rounds = 1;
@@ -97,7 +97,7 @@ pub fn render_for(
             acc.stats.spp_max = done;
             return Ok((acc, Progressive { spp: done, rounds }));
         }
-        round.first_sample = done;
+        round.sample_offset = done;
         round.spp = done;
         let out = render(scene, world, &round, progress)?;
         last = out.stats.wall;

@@ -4,16 +4,23 @@
 pub mod accuracy;
 pub mod adaptive;
 pub mod camera;
+pub mod checkpoint;
 pub mod convergence;
+pub mod film;
 pub mod integrator;
+pub mod interrupt;
 pub mod lights;
 pub mod material;
+pub mod merge;
 pub mod options;
 pub mod output;
+pub mod piece;
+pub mod progress;
 pub mod rng;
 pub mod scenes;
 pub mod texture;
 pub mod tiles;
 
+pub use film::Film;
 pub use options::{Crop, RenderOptions};
-pub use tiles::{render, RenderError, RenderOutput, RenderStats};
+pub use tiles::{render, render_film, Hooks, RenderError, RenderOutput, RenderStats};

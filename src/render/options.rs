@@ -12,6 +12,16 @@ pub struct Crop {
     pub y1: u32,
 }
 
+impl Crop {
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+}
+
 /// Everything that decides the pixels besides the scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderOptions {
@@ -32,8 +42,12 @@ pub struct RenderOptions {
     /// Adaptive sampling: a pixel stops once the relative standard error of
     /// its mean luminance is below this; `spp` is then the cap.
     pub noise: Option<f32>,
-    /// Index of each pixel's first sample (progressive rounds use new ones).
-    pub first_sample: u32,
+    /// Added to every sample index (progressive rounds of `--time` draw
+    /// new samples this way).
+    pub sample_offset: u32,
+    /// Independent sample set: pass `p` takes the sample indices
+    /// `p·spp .. (p+1)·spp` of every pixel's stream.
+    pub pass: u32,
 }
 
 /// Why options cannot be rendered.
@@ -58,6 +72,8 @@ pub enum OptionsError {
     BadClamp(f32),
     #[error("the noise target {0} must be a positive number")]
     BadNoise(f32),
+    #[error("pass {pass} of {spp} spp needs sample indices beyond 2^32")]
+    PassTooLarge { pass: u32, spp: u32 },
 }
 
 impl RenderOptions {
@@ -74,7 +90,8 @@ impl RenderOptions {
             light_sampling: true,
             clamp: None,
             noise: None,
-            first_sample: 0,
+            sample_offset: 0,
+            pass: 0,
         }
     }
 
@@ -96,6 +113,12 @@ impl RenderOptions {
         if self.threads == Some(0) {
             return Err(OptionsError::NoThreads(0));
         }
+        if self.first_sample().is_none() {
+            return Err(OptionsError::PassTooLarge {
+                pass: self.pass,
+                spp: self.spp,
+            });
+        }
         let whole = Crop {
             x0: 0,
             x1: self.width,
@@ -114,5 +137,15 @@ impl RenderOptions {
             });
         }
         Ok(c)
+    }
+
+    /// The first sample index of this pass: `pass · spp`, if every index of
+    /// the pass fits the stream's 32-bit sample counter.
+    pub fn first_sample(&self) -> Option<u32> {
+        let first = self
+            .pass
+            .checked_mul(self.spp)?
+            .checked_add(self.sample_offset)?;
+        first.checked_add(self.spp).map(|_| first)
     }
 }

@@ -60,18 +60,29 @@ pub fn write_image(
     pixels: &[Vec3],
 ) -> Result<(), OutputError> {
     let format = Format::from_path(path)?;
-    let err = |e: &dyn std::fmt::Display| OutputError::Write {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
+    write_atomically(path, |w| encode(w, format, width, height, pixels)).map_err(|e| {
+        OutputError::Write {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        }
+    })
+}
+
+/// Writes a file through `fill` into a temporary file beside `path`, synced
+/// and renamed over `path` only when complete: on any failure `path` keeps
+/// its old content and the temporary file is removed.
+pub fn write_atomically(
+    path: &Path,
+    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), Box<dyn std::error::Error>>,
+) -> Result<(), Box<dyn std::error::Error>> {
     let temp = temp_path(path);
-    let result = (|| -> Result<(), OutputError> {
-        let file = File::create(&temp).map_err(|e| err(&e))?;
-        let mut w = BufWriter::new(file);
-        encode(&mut w, format, width, height, pixels).map_err(|e| err(&e))?;
-        let file = w.into_inner().map_err(|e| err(&e))?;
-        file.sync_all().map_err(|e| err(&e))?;
-        std::fs::rename(&temp, path).map_err(|e| err(&e))
+    let result = (|| -> Result<(), Box<dyn std::error::Error>> {
+        let mut w = BufWriter::new(File::create(&temp)?);
+        fill(&mut w)?;
+        let file = w.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        std::fs::rename(&temp, path)?;
+        Ok(())
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&temp);
@@ -137,6 +148,21 @@ mod tests {
         assert_eq!(linear_to_srgb8(f32::NAN), 0);
         // Linear 0.214 is sRGB ≈ 0.5.
         assert!((linear_to_srgb8(0.214) as i32 - 128).abs() <= 1);
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_temporary() {
+        let dir = std::env::temp_dir().join(format!("rtlang-output-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join("old.png");
+        std::fs::write(&path, b"old content").expect("writes");
+        // Two pixels for a 2×2 image: the encoder fails half-way.
+        let err = write_image(&path, 2, 2, &[Vec3::ONE; 2]);
+        assert!(err.is_err());
+        assert_eq!(std::fs::read(&path).expect("reads"), b"old content");
+        let left: Vec<_> = std::fs::read_dir(&dir).expect("lists").collect();
+        assert_eq!(left.len(), 1, "temporary file left behind");
+        std::fs::remove_dir_all(&dir).expect("cleans up");
     }
 
     #[test]

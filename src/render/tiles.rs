@@ -1,8 +1,12 @@
-//! Rendering an image: the region is cut into tiles rendered in parallel by
-//! rayon; each pixel's samples are traced in index order from streams that
-//! depend only on (seed, pixel, sample), so the result is bit-identical for
-//! any thread count and any crop. Counters are per tile, merged at the end.
+//! Rendering an image: samples are added to a [`Film`] in rounds (1, 2, 4, …
+//! samples per pixel, at most 16), each round cut into tiles rendered in
+//! parallel by rayon. Each pixel's samples are traced in index order from
+//! streams that depend only on (seed, pixel, sample), so the result is
+//! bit-identical for any thread count, any crop, any number of rounds and
+//! any interruption resumed from a checkpoint. Counters are per tile, merged
+//! at the end of each round.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
@@ -10,6 +14,7 @@ use rayon::prelude::*;
 
 use super::adaptive::{is_round_end, PixelEstimate};
 use super::camera::CameraRays;
+use super::film::Film;
 use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
 use super::rng::Rng;
@@ -18,6 +23,9 @@ use crate::scene::Scene;
 
 /// Tile edge in pixels.
 const TILE: u32 = 16;
+
+/// Most samples per pixel added in one round; rounds start at 1 and double.
+const ROUND_MAX: u32 = 16;
 
 /// Counters of a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -30,11 +38,11 @@ pub struct RenderStats {
     pub dropped: u64,
     /// Newton iterations of analytic revolution surfaces that failed.
     pub newton_failures: u64,
-    pub wall: Duration,
-    /// The fewest and most samples a pixel traced (they differ only with
+    /// Fewest and most samples any pixel traced (they differ under
     /// adaptive sampling).
     pub spp_min: u32,
     pub spp_max: u32,
+    pub wall: Duration,
 }
 
 /// A rendered region in linear RGB, row 0 at the top.
@@ -54,20 +62,23 @@ pub enum RenderError {
     Options(#[from] OptionsError),
     #[error("cannot start {threads} render threads: {message}")]
     Threads { threads: usize, message: String },
+    #[error("the film does not cover the region being rendered")]
+    FilmRegion,
 }
 
-struct TileResult {
-    tile: Crop,
-    pixels: Vec<Vec3>,
-    rays: u64,
-    dropped: u64,
-    samples: u64,
-    spp_min: u32,
-    spp_max: u32,
+/// What a caller may observe and steer while a film renders.
+pub struct Hooks<'a> {
+    /// Set (e.g. by a signal handler) to stop at the next tile boundary;
+    /// tiles already started finish their round.
+    pub stop: &'a AtomicBool,
+    /// Told the pixel-samples each finished tile added.
+    pub tile_done: &'a (dyn Fn(u64) + Sync),
+    /// Called with the film after every completed round of samples.
+    pub round_done: &'a mut dyn FnMut(&Film),
 }
 
 /// Renders `world` (built from `scene`) with `options`; `progress` is told
-/// how many pixels each finished tile completed.
+/// how many pixel-samples each finished tile added.
 pub fn render(
     scene: &Scene,
     world: &World,
@@ -75,6 +86,38 @@ pub fn render(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<RenderOutput, RenderError> {
     let region = options.region()?;
+    let mut film = Film::new(region);
+    let stop = AtomicBool::new(false);
+    let mut hooks = Hooks {
+        stop: &stop,
+        tile_done: progress,
+        round_done: &mut |_| {},
+    };
+    let stats = render_film(scene, world, options, &mut film, &mut hooks)?;
+    Ok(RenderOutput {
+        region,
+        width: region.width(),
+        height: region.height(),
+        pixels: film.pixels(),
+        stats,
+    })
+}
+
+/// Adds samples to `film` until every pixel has `options.spp` (or `hooks.stop`
+/// is set), in rounds of growing size over all tiles. `film` may already hold
+/// samples (a resumed checkpoint): each pixel continues from its own count.
+pub fn render_film(
+    scene: &Scene,
+    world: &World,
+    options: &RenderOptions,
+    film: &mut Film,
+    hooks: &mut Hooks,
+) -> Result<RenderStats, RenderError> {
+    let region = options.region()?;
+    if film.region != region {
+        return Err(RenderError::FilmRegion);
+    }
+    let first = options.first_sample().unwrap_or(0);
     let start = Instant::now();
     let tiles = tiles_of(region);
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
@@ -84,54 +127,84 @@ pub fn render(
         max_depth: options.max_depth,
         light_sampling: options.light_sampling,
     };
-    let work = || -> Vec<TileResult> {
-        tiles
-            .par_iter()
-            .map(|tile| {
-                let r = render_tile(&tracer, &camera, options, *tile);
-                progress(r.pixels.len() as u64);
-                r
-            })
-            .collect()
+    let pool = match options.threads {
+        None => None,
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| RenderError::Threads {
+                    threads: n,
+                    message: e.to_string(),
+                })?,
+        ),
     };
-    let results = match options.threads {
-        None => work(),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| RenderError::Threads {
-                threads: n,
-                message: e.to_string(),
-            })?
-            .install(work),
-    };
-    let (width, height) = (region.x1 - region.x0, region.y1 - region.y0);
-    let mut pixels = vec![Vec3::ZERO; width as usize * height as usize];
     let mut stats = RenderStats {
         spp_min: u32::MAX,
         ..RenderStats::default()
     };
-    for r in results {
-        stats.samples += r.samples;
-        stats.spp_min = stats.spp_min.min(r.spp_min);
-        stats.spp_max = stats.spp_max.max(r.spp_max);
-        stats.rays += r.rays;
-        stats.dropped += r.dropped;
-        let tw = (r.tile.x1 - r.tile.x0) as usize;
-        for (row, y) in (r.tile.y0..r.tile.y1).enumerate() {
-            let dst = (y - region.y0) as usize * width as usize + (r.tile.x0 - region.x0) as usize;
-            pixels[dst..dst + tw].copy_from_slice(&r.pixels[row * tw..(row + 1) * tw]);
+    let mut reached = film.spp_reached();
+    while reached < options.spp && !hooks.stop.load(Ordering::Relaxed) {
+        // Adaptive sampling decides per pixel, inside one round to the cap.
+        let target = if options.noise.is_some() {
+            options.spp
+        } else {
+            (reached + reached.clamp(1, ROUND_MAX)).min(options.spp)
+        };
+        let job = Job {
+            tracer: &tracer,
+            camera: &camera,
+            seed: options.seed,
+            first,
+            target,
+            clamp: options.clamp,
+            noise: options.noise,
+        };
+        let shared: &Film = film;
+        let work = || -> Vec<TileResult> {
+            tiles
+                .par_iter()
+                .filter(|_| !hooks.stop.load(Ordering::Relaxed))
+                .map(|tile| {
+                    let r = job.tile(shared, *tile);
+                    (hooks.tile_done)(r.samples);
+                    r
+                })
+                .collect()
+        };
+        let results = match &pool {
+            None => work(),
+            Some(p) => p.install(work),
+        };
+        for r in results {
+            stats.samples += r.samples;
+            stats.rays += r.rays;
+            stats.dropped += r.dropped;
+            stats.spp_min = stats.spp_min.min(r.spp_min);
+            stats.spp_max = stats.spp_max.max(r.spp_max);
+            let tw = r.tile.width() as usize;
+            for (row, y) in (r.tile.y0..r.tile.y1).enumerate() {
+                let dst = film.index(r.tile.x0, y);
+                let src = row * tw..(row + 1) * tw;
+                film.sums[dst..dst + tw].copy_from_slice(&r.sums[src.clone()]);
+                film.kept[dst..dst + tw].copy_from_slice(&r.kept[src.clone()]);
+                film.taken[dst..dst + tw].copy_from_slice(&r.taken[src]);
+            }
         }
+        reached = film.spp_reached();
+        if reached >= target {
+            (hooks.round_done)(film);
+        }
+    }
+    // Without adaptive sampling every pixel's count is its `taken`; with it,
+    // the single round's tiles reported what each pixel traced.
+    if options.noise.is_none() || stats.spp_min == u32::MAX {
+        stats.spp_min = film.spp_reached();
+        stats.spp_max = film.taken.iter().copied().max().unwrap_or(0);
     }
     stats.newton_failures = world.newton_failures();
     stats.wall = start.elapsed();
-    Ok(RenderOutput {
-        region,
-        width,
-        height,
-        pixels,
-        stats,
-    })
+    Ok(stats)
 }
 
 /// Scales `l` down so that its largest component is at most `max`, keeping
@@ -168,56 +241,84 @@ fn tiles_of(region: Crop) -> Vec<Crop> {
     tiles
 }
 
-fn render_tile(
-    tracer: &Tracer,
-    camera: &CameraRays,
-    options: &RenderOptions,
+/// One round: every pixel brought up to `target` samples of the pass that
+/// starts at sample index `first`.
+struct Job<'a> {
+    tracer: &'a Tracer<'a>,
+    camera: &'a CameraRays,
+    seed: u64,
+    first: u32,
+    target: u32,
+    /// Largest component a sample's radiance may have (biased; off by default).
+    clamp: Option<f32>,
+    /// Adaptive target: a pixel stops at a round end once the relative
+    /// standard error of its mean luminance is below it.
+    noise: Option<f32>,
+}
+
+struct TileResult {
     tile: Crop,
-) -> TileResult {
-    let mut pixels = Vec::with_capacity(((tile.x1 - tile.x0) * (tile.y1 - tile.y0)) as usize);
-    let (mut rays, mut dropped, mut samples) = (0u64, 0u64, 0u64);
-    let (mut spp_min, mut spp_max) = (u32::MAX, 0u32);
-    for y in tile.y0..tile.y1 {
-        for x in tile.x0..tile.x1 {
-            let mut estimate = PixelEstimate::default();
-            let mut traced = 0u32;
-            for s in 0..options.spp {
-                if let Some(target) = options.noise {
-                    if is_round_end(s) && estimate.relative_error() < target as f64 {
-                        break;
+    sums: Vec<Vec3>,
+    kept: Vec<u32>,
+    taken: Vec<u32>,
+    samples: u64,
+    rays: u64,
+    dropped: u64,
+    spp_min: u32,
+    spp_max: u32,
+}
+
+impl Job<'_> {
+    fn tile(&self, film: &Film, tile: Crop) -> TileResult {
+        let n = (tile.width() * tile.height()) as usize;
+        let mut r = TileResult {
+            tile,
+            sums: Vec::with_capacity(n),
+            kept: Vec::with_capacity(n),
+            taken: Vec::with_capacity(n),
+            samples: 0,
+            rays: 0,
+            dropped: 0,
+            spp_min: u32::MAX,
+            spp_max: 0,
+        };
+        for y in tile.y0..tile.y1 {
+            for x in tile.x0..tile.x1 {
+                let i = film.index(x, y);
+                let (mut sum, mut kept) = (film.sums[i], film.kept[i]);
+                let done = film.taken[i].max(self.target);
+                let mut estimate = PixelEstimate::default();
+                let mut traced = film.taken[i];
+                for s in film.taken[i]..self.target {
+                    if let Some(goal) = self.noise {
+                        if is_round_end(s) && estimate.relative_error() < f64::from(goal) {
+                            break;
+                        }
+                    }
+                    traced += 1;
+                    let mut rng = Rng::for_sample(self.seed, x, y, self.first + s);
+                    let ray = self.camera.ray(x, y, &mut rng);
+                    let (mut l, rays) = self.tracer.radiance(ray, &mut rng);
+                    if let Some(c) = self.clamp {
+                        l = clamp_radiance(l, c);
+                    }
+                    r.rays += rays as u64;
+                    r.samples += 1;
+                    if l.is_finite() {
+                        sum += l;
+                        kept += 1;
+                        estimate.add(l);
+                    } else {
+                        r.dropped += 1;
                     }
                 }
-                traced += 1;
-                let mut rng = Rng::for_sample(options.seed, x, y, options.first_sample + s);
-                let ray = camera.ray(x, y, &mut rng);
-                let (mut l, n) = tracer.radiance(ray, &mut rng);
-                if let Some(c) = options.clamp {
-                    l = clamp_radiance(l, c);
-                }
-                rays += n as u64;
-                if l.is_finite() {
-                    estimate.add(l);
-                } else {
-                    dropped += 1;
-                }
+                r.spp_min = r.spp_min.min(traced);
+                r.spp_max = r.spp_max.max(traced);
+                r.sums.push(sum);
+                r.kept.push(kept);
+                r.taken.push(done);
             }
-            samples += traced as u64;
-            spp_min = spp_min.min(traced);
-            spp_max = spp_max.max(traced);
-            pixels.push(if estimate.kept > 0 {
-                estimate.sum / estimate.kept as f32
-            } else {
-                Vec3::ZERO
-            });
         }
-    }
-    TileResult {
-        tile,
-        pixels,
-        rays,
-        dropped,
-        samples,
-        spp_min,
-        spp_max,
+        r
     }
 }

@@ -1,0 +1,166 @@
+//! Checkpoints: a film saved with the description of the render it belongs
+//! to, so `--resume` can continue it to the requested spp with exactly the
+//! numbers an uninterrupted render would hold.
+//!
+//! File layout: the line `rtlang-checkpoint 1`, one line of JSON (the
+//! [`PieceInfo`] plus the first sample index), then for every pixel of the
+//! region, row-major, little-endian: the three f32 sums, the kept count and
+//! the taken count (u32 each).
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use super::film::Film;
+use super::output::write_atomically;
+use super::piece::PieceInfo;
+
+const MAGIC: &str = "rtlang-checkpoint 1";
+
+/// Which render a checkpoint belongs to.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    pub piece: PieceInfo,
+    /// Sample index the pass starts at (`pass · spp`).
+    pub first_sample: u32,
+}
+
+/// Why a checkpoint could not be saved, loaded or resumed.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub enum CheckpointError {
+    #[error("cannot write checkpoint `{}`: {message}", path.display())]
+    #[diagnostic(
+        code(rtlang::checkpoint::write),
+        help("check that the folder exists and is writable")
+    )]
+    Write { path: PathBuf, message: String },
+    #[error("cannot read checkpoint `{}`: {message}", path.display())]
+    #[diagnostic(
+        code(rtlang::checkpoint::read),
+        help("the file must be a checkpoint written by `rtlang render --checkpoint`")
+    )]
+    Read { path: PathBuf, message: String },
+    #[error("checkpoint `{}` belongs to another render: its {field} is {saved}, this render's is {now}", path.display())]
+    #[diagnostic(
+        code(rtlang::checkpoint::mismatch),
+        help("resume with the same scene, defines, frame, size, crop/tile, seed, depth and pass, or delete the checkpoint")
+    )]
+    Mismatch {
+        path: PathBuf,
+        field: &'static str,
+        saved: String,
+        now: String,
+    },
+    #[error("checkpoint `{}` already has {saved} samples per pixel, more than the {spp} asked for", path.display())]
+    #[diagnostic(code(rtlang::checkpoint::ahead), help("ask for at least {saved} spp"))]
+    Ahead { path: PathBuf, saved: u32, spp: u32 },
+}
+
+/// Saves `film` with `header` to `path` atomically.
+pub fn save(path: &Path, header: &Header, film: &Film) -> Result<(), CheckpointError> {
+    let err = |e: &dyn std::fmt::Display| CheckpointError::Write {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    let json = serde_json::to_string(header).map_err(|e| err(&e))?;
+    write_atomically(path, |w| {
+        writeln!(w, "{MAGIC}\n{json}")?;
+        for i in 0..film.sums.len() {
+            for c in film.sums[i].to_array() {
+                w.write_all(&c.to_le_bytes())?;
+            }
+            w.write_all(&film.kept[i].to_le_bytes())?;
+            w.write_all(&film.taken[i].to_le_bytes())?;
+        }
+        Ok(())
+    })
+    .map_err(|e| err(&e))
+}
+
+/// Loads the checkpoint at `path` and checks that it belongs to the render
+/// described by `now` and does not exceed its spp.
+pub fn load(path: &Path, now: &Header) -> Result<Film, CheckpointError> {
+    let err = |message: String| CheckpointError::Read {
+        path: path.to_path_buf(),
+        message,
+    };
+    let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
+    let mut r = BufReader::new(file);
+    let mut line = String::new();
+    r.read_line(&mut line).map_err(|e| err(e.to_string()))?;
+    if line.trim_end() != MAGIC {
+        return Err(err("not an rtlang checkpoint".into()));
+    }
+    line.clear();
+    r.read_line(&mut line).map_err(|e| err(e.to_string()))?;
+    let saved: Header = serde_json::from_str(&line).map_err(|e| err(e.to_string()))?;
+    check_matches(path, &saved, now)?;
+    let mut film = Film::new(saved.piece.crop());
+    let mut word = [0u8; 4];
+    let mut next = |r: &mut BufReader<std::fs::File>| -> Result<[u8; 4], CheckpointError> {
+        r.read_exact(&mut word)
+            .map_err(|e| err(format!("truncated pixel data: {e}")))?;
+        Ok(word)
+    };
+    for i in 0..film.sums.len() {
+        let mut c = [0f32; 3];
+        for v in &mut c {
+            *v = f32::from_le_bytes(next(&mut r)?);
+        }
+        film.sums[i] = Vec3::from_array(c);
+        film.kept[i] = u32::from_le_bytes(next(&mut r)?);
+        film.taken[i] = u32::from_le_bytes(next(&mut r)?);
+    }
+    let saved_spp = film.taken.iter().copied().max().unwrap_or(0);
+    if saved_spp > now.piece.spp {
+        return Err(CheckpointError::Ahead {
+            path: path.to_path_buf(),
+            saved: saved_spp,
+            spp: now.piece.spp,
+        });
+    }
+    Ok(film)
+}
+
+fn check_matches(path: &Path, saved: &Header, now: &Header) -> Result<(), CheckpointError> {
+    let (a, b) = (&saved.piece, &now.piece);
+    let fields: [(&'static str, String, String); 8] = [
+        ("scene", a.scene.clone(), b.scene.clone()),
+        (
+            "size",
+            format!("{}×{}", a.width, a.height),
+            format!("{}×{}", b.width, b.height),
+        ),
+        (
+            "region",
+            format!("{:?}", a.region),
+            format!("{:?}", b.region),
+        ),
+        ("seed", a.seed.to_string(), b.seed.to_string()),
+        (
+            "max depth",
+            a.max_depth.to_string(),
+            b.max_depth.to_string(),
+        ),
+        ("frame", a.frame.to_string(), b.frame.to_string()),
+        ("pass", a.pass.to_string(), b.pass.to_string()),
+        (
+            "first sample",
+            saved.first_sample.to_string(),
+            now.first_sample.to_string(),
+        ),
+    ];
+    for (field, saved, now) in fields {
+        if saved != now {
+            return Err(CheckpointError::Mismatch {
+                path: path.to_path_buf(),
+                field,
+                saved,
+                now,
+            });
+        }
+    }
+    Ok(())
+}

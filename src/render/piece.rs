@@ -1,0 +1,166 @@
+//! What a rendered piece is: the JSON sidecar `IMAGE.json` written beside
+//! every image (`tile.exr` → `tile.exr.json`) naming the scene, the full
+//! image size, the pixel bounds, seed, pass and samples per pixel, so that
+//! `rtlang merge` can check that pieces belong together.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::options::{Crop, RenderOptions};
+use crate::scene::Scene;
+
+/// The sidecar of one rendered image.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PieceInfo {
+    /// Identity of the evaluated scene (see [`scene_identity`]).
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    /// Pixel bounds `[x0, x1, y0, y1]` (half-open) of this piece.
+    pub region: [u32; 4],
+    pub seed: u64,
+    pub max_depth: u32,
+    /// The animation frame the scene was evaluated at.
+    pub frame: f64,
+    pub pass: u32,
+    /// Samples per pixel requested.
+    pub spp: u32,
+    /// Samples per pixel every pixel reached (less than `spp` when the
+    /// render was interrupted).
+    pub spp_reached: u32,
+}
+
+/// Why a sidecar could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum PieceError {
+    #[error("cannot read `{}`: {message}", path.display())]
+    Read { path: PathBuf, message: String },
+    #[error("cannot write `{}`: {message}", path.display())]
+    Write { path: PathBuf, message: String },
+}
+
+impl PieceInfo {
+    /// The sidecar of a render of `scene` with `options` that reached `spp_reached`.
+    pub fn new(
+        scene: &Scene,
+        options: &RenderOptions,
+        region: Crop,
+        frame: f64,
+        spp_reached: u32,
+    ) -> PieceInfo {
+        PieceInfo {
+            scene: scene_identity(scene),
+            width: options.width,
+            height: options.height,
+            region: [region.x0, region.x1, region.y0, region.y1],
+            seed: options.seed,
+            max_depth: options.max_depth,
+            frame,
+            pass: options.pass,
+            spp: options.spp,
+            spp_reached,
+        }
+    }
+
+    pub fn crop(&self) -> Crop {
+        let [x0, x1, y0, y1] = self.region;
+        Crop { x0, x1, y0, y1 }
+    }
+
+    /// Whether every pixel got the samples asked for.
+    pub fn complete(&self) -> bool {
+        self.spp_reached >= self.spp
+    }
+
+    /// Reads the sidecar of `image`.
+    pub fn read(image: &Path) -> Result<PieceInfo, PieceError> {
+        let path = sidecar_path(image);
+        let err = |message: String| PieceError::Read {
+            path: path.clone(),
+            message,
+        };
+        let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
+        serde_json::from_str(&text).map_err(|e| err(e.to_string()))
+    }
+
+    /// Writes the sidecar of `image` atomically.
+    pub fn write(&self, image: &Path) -> Result<(), PieceError> {
+        let path = sidecar_path(image);
+        let text = serde_json::to_string_pretty(self).map_err(|e| PieceError::Write {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        super::output::write_atomically(&path, |w| Ok(w.write_all(text.as_bytes())?)).map_err(|e| {
+            PieceError::Write {
+                path: path.clone(),
+                message: e.to_string(),
+            }
+        })
+    }
+}
+
+/// `image` with `.json` appended: `tile.exr` → `tile.exr.json`.
+pub fn sidecar_path(image: &Path) -> PathBuf {
+    let mut name = image.as_os_str().to_owned();
+    name.push(".json");
+    PathBuf::from(name)
+}
+
+/// A 64-bit FNV-1a hash, fed through `fmt::Write`.
+struct Fnv(u64);
+
+impl std::fmt::Write for Fnv {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        for b in s.bytes() {
+            self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+        Ok(())
+    }
+}
+
+/// A hex hash of the evaluated scene: camera, textures, materials, meshes,
+/// objects and background. The settings that command-line options override
+/// (size, spp, seed, depth) are left out; they are recorded and checked one
+/// by one.
+pub fn scene_identity(scene: &Scene) -> String {
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    let _ = write!(
+        h,
+        "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+        scene.camera,
+        scene.textures,
+        scene.materials,
+        scene.meshes,
+        scene.prototypes,
+        scene.objects,
+        scene.settings.background
+    );
+    format!("{:016x}", h.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identity_ignores_overridable_settings_but_not_the_camera() {
+        let a = Scene::default();
+        let mut b = a.clone();
+        b.settings.spp = 999;
+        b.settings.seed = 5;
+        assert_eq!(scene_identity(&a), scene_identity(&b));
+        b.camera.vfov += 1.0;
+        assert_ne!(scene_identity(&a), scene_identity(&b));
+    }
+
+    #[test]
+    fn sidecar_is_the_image_path_plus_json() {
+        assert_eq!(
+            sidecar_path(Path::new("out/t.exr")),
+            PathBuf::from("out/t.exr.json")
+        );
+    }
+}
