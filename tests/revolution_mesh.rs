@@ -34,7 +34,11 @@ fn capsule() -> Bezier {
 /// Edge → how many triangles use it, keyed by the bits of its endpoints
 /// (so duplicated seam vertices count as the same corner).
 fn edge_uses(mesh: &MeshData) -> HashMap<([u32; 3], [u32; 3]), u32> {
-    let key = |i: u32| mesh.positions[i as usize].to_array().map(|c| (c + 0.0).to_bits());
+    let key = |i: u32| {
+        mesh.positions[i as usize]
+            .to_array()
+            .map(|c| (c + 0.0).to_bits())
+    };
     let mut uses = HashMap::new();
     for t in &mesh.triangles {
         for k in 0..3 {
@@ -60,7 +64,10 @@ fn vase_grid_has_the_expected_size_and_open_ends() {
             open += 1;
             let ya = f32::from_bits(a[1]);
             let yb = f32::from_bits(b[1]);
-            assert!(ya.abs() == 2.0 && ya == yb, "an open edge inside the surface");
+            assert!(
+                ya.abs() == 2.0 && ya == yb,
+                "an open edge inside the surface"
+            );
         }
     }
     assert_eq!(open, 2 * 16, "exactly the top and bottom rings are open");
@@ -70,7 +77,11 @@ fn vase_grid_has_the_expected_size_and_open_ends() {
 fn profile_touching_the_axis_gives_a_closed_mesh_without_degenerate_triangles() {
     let mesh = tessellate(&capsule(), 12);
     assert!(edge_uses(&mesh).values().all(|&n| n == 2), "not closed");
-    assert_eq!(mesh.len(), 2 * 12 * 12 - 2 * 12, "one triangle per pole quad is dropped");
+    assert_eq!(
+        mesh.len(),
+        2 * 12 * 12 - 2 * 12,
+        "one triangle per pole quad is dropped"
+    );
     for t in &mesh.triangles {
         let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
         assert!((b - a).cross(c - a).length() > 1e-6);
@@ -78,7 +89,10 @@ fn profile_touching_the_axis_gives_a_closed_mesh_without_degenerate_triangles() 
     for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
         assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-5);
         if p.x == 0.0 && p.z == 0.0 {
-            assert!((*n - Vec3::Y * p.y.signum()).length() < 1e-6, "pole normal {n}");
+            assert!(
+                (*n - Vec3::Y * p.y.signum()).length() < 1e-6,
+                "pole normal {n}"
+            );
         }
     }
 }
@@ -140,7 +154,10 @@ fn vertices_lie_on_the_surface_and_triangles_within_the_bound() {
             worst = worst.max(surface_distance(&curve, centroid));
         }
         assert!(worst <= bound, "res {res}: {worst} > bound {bound}");
-        assert!(worst > 0.1 * bound, "res {res}: bound {bound} is too loose ({worst})");
+        assert!(
+            worst > 0.1 * bound,
+            "res {res}: bound {bound} is too loose ({worst})"
+        );
     }
     assert!(tessellation_error_bound(&curve, 64) < tessellation_error_bound(&curve, 16) / 8.0);
 }

@@ -37,5 +37,8 @@ fn generated_scenes_never_panic_and_render_finite_pixels() {
 fn the_generator_is_deterministic() {
     assert_eq!(Gen::from_seed(7).scene(), Gen::from_seed(7).scene());
     assert_ne!(Gen::from_seed(7).scene(), Gen::from_seed(8).scene());
-    assert_eq!(Gen::from_bytes(b"abc").scene(), Gen::from_bytes(b"abc").scene());
+    assert_eq!(
+        Gen::from_bytes(b"abc").scene(),
+        Gen::from_bytes(b"abc").scene()
+    );
 }

@@ -64,7 +64,6 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
     })
 }
 
-
 fn fail(message: impl std::fmt::Display) -> ExitCode {
     eprintln!("error: {message}");
     ExitCode::FAILURE

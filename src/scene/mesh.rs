@@ -5,8 +5,6 @@
 
 use glam::{Vec2, Vec3};
 
-
-
 /// An indexed triangle mesh. `normals` and `uvs` are either empty or as long
 /// as `positions`, indexed by the same triangle indices.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -34,10 +32,20 @@ pub struct MeshMaterial {
 /// What an MTL entry maps to.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshMaterialKind {
-    Diffuse { color: Vec3, texture: Option<std::path::PathBuf> },
-    Metal { color: Vec3, fuzz: f32 },
-    Dielectric { ior: f32 },
-    Light { emit: Vec3 },
+    Diffuse {
+        color: Vec3,
+        texture: Option<std::path::PathBuf>,
+    },
+    Metal {
+        color: Vec3,
+        fuzz: f32,
+    },
+    Dielectric {
+        ior: f32,
+    },
+    Light {
+        emit: Vec3,
+    },
 }
 
 impl MeshMaterialKind {
@@ -61,4 +69,3 @@ impl MeshData {
         self.triangles.is_empty()
     }
 }
-

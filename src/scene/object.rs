@@ -31,9 +31,15 @@ pub enum RevolutionMode {
 /// A geometric primitive in its object space.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
-    Sphere { center: Vec3, radius: f32 },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
     /// The infinite plane through `point` with unit `normal`.
-    Plane { point: Vec3, normal: Vec3 },
+    Plane {
+        point: Vec3,
+        normal: Vec3,
+    },
     /// An axis-aligned rectangle `a.0..a.1 × b.0..b.1` in `plane` at offset `k`.
     Rect {
         plane: RectPlane,
@@ -42,10 +48,18 @@ pub enum Shape {
         k: f32,
     },
     /// An axis-aligned box (six rectangles) from `min` to `max`.
-    Cuboid { min: Vec3, max: Vec3 },
-    Triangle { vertices: [Vec3; 3] },
+    Cuboid {
+        min: Vec3,
+        max: Vec3,
+    },
+    Triangle {
+        vertices: [Vec3; 3],
+    },
     /// The surface swept by `curve` about the y axis.
-    Revolution { curve: Bezier, mode: RevolutionMode },
+    Revolution {
+        curve: Bezier,
+        mode: RevolutionMode,
+    },
 }
 
 /// A node of the object tree.

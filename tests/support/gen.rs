@@ -16,14 +16,42 @@ pub struct Gen {
 
 /// Finite numbers at the extremes, which the language accepts.
 const EXTREME: &[&str] = &[
-    "0", "-0", "1e-4", "1e5", "1e-12", "1e20", "1e308", "-1e308", "1e-320", "4294967296", "1e9",
-    "0.0001", "100000", "180", "360", "-180", "90", "random(1e300)", "(-8) ^ (1/3)", "1e-999",
+    "0",
+    "-0",
+    "1e-4",
+    "1e5",
+    "1e-12",
+    "1e20",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "4294967296",
+    "1e9",
+    "0.0001",
+    "100000",
+    "180",
+    "360",
+    "-180",
+    "90",
+    "random(1e300)",
+    "(-8) ^ (1/3)",
+    "1e-999",
 ];
 
 /// Numbers the language must refuse (infinite or NaN) or that overflow.
 const INVALID: &[&str] = &[
-    "1e999", "-1e999", "(0/0)", "(1/0)", "sqrt(-1)", "ln(0)", "pow(0, -1)", "(1e308 * 10)",
-    "exp(1000)", "(2 ^ 1024)", "18446744073709551616", "tan(pi / 2)",
+    "1e999",
+    "-1e999",
+    "(0/0)",
+    "(1/0)",
+    "sqrt(-1)",
+    "ln(0)",
+    "pow(0, -1)",
+    "(1e308 * 10)",
+    "exp(1000)",
+    "(2 ^ 1024)",
+    "18446744073709551616",
+    "tan(pi / 2)",
 ];
 
 impl Gen {
@@ -166,12 +194,19 @@ impl Gen {
             3 => format!("{} ^ {}", self.number(), self.number()),
             4 => format!("-{}", self.expr()),
             5 => {
-                let f = ["sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "floor", "radians"];
+                let f = [
+                    "sin", "cos", "tan", "sqrt", "abs", "exp", "ln", "floor", "radians",
+                ];
                 let f = f[self.pick(f.len() as u32) as usize];
                 format!("{f}({})", self.expr())
             }
             6 => format!("clamp({}, {}, {})", self.expr(), self.expr(), self.expr()),
-            7 => format!("smoothstep({}, {}, {})", self.expr(), self.expr(), self.expr()),
+            7 => format!(
+                "smoothstep({}, {}, {})",
+                self.expr(),
+                self.expr(),
+                self.expr()
+            ),
             _ => self.name(),
         };
         self.depth -= 1;
@@ -199,7 +234,12 @@ impl Gen {
             1..=9 => "#ffcc00".into(),
             10..=19 => self.vector(),
             20..=24 => format!("rgb({}, {}, {})", self.expr(), self.expr(), self.expr()),
-            _ => format!("rgb({}, {}, {})", self.number(), self.number(), self.number()),
+            _ => format!(
+                "rgb({}, {}, {})",
+                self.number(),
+                self.number(),
+                self.number()
+            ),
         }
     }
 
@@ -289,7 +329,10 @@ impl Gen {
     /// One object block with its properties and transforms.
     fn object(&mut self) -> String {
         if self.depth > 4 {
-            return format!("sphere {{ center (0, 0, 0) radius {} material m }}", self.number());
+            return format!(
+                "sphere {{ center (0, 0, 0) radius {} material m }}",
+                self.number()
+            );
         }
         self.depth += 1;
         let m = if self.chance(97) {
@@ -322,7 +365,11 @@ impl Gen {
             4 => format!("box {{ min {} max {} {m}", self.vector(), self.vector()),
             5 => {
                 let a = self.vector();
-                let b = if self.chance(30) { a.clone() } else { self.vector() };
+                let b = if self.chance(30) {
+                    a.clone()
+                } else {
+                    self.vector()
+                };
                 format!("triangle {{ a {a} b {b} c {} {m}", self.vector())
             }
             6 if self.chance(20) => {
@@ -369,4 +416,3 @@ impl Gen {
         s + " }"
     }
 }
-
