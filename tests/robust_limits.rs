@@ -2,7 +2,7 @@
 //! diagnostic from the built binary — a failure exit code, the expected
 //! diagnostic code, and never a panic or an abort.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const RTLANG: &str = env!("CARGO_BIN_EXE_rtlang");
@@ -29,7 +29,7 @@ fn run(args: &[&str]) -> Output {
 
 /// Runs `rtlang check --format json` on `path` and returns its exit code and
 /// the diagnostic codes it printed, after asserting nothing panicked.
-fn check_codes(path: &PathBuf) -> (Option<i32>, Vec<String>) {
+fn check_codes(path: &Path) -> (Option<i32>, Vec<String>) {
     let out = run(&[
         "check",
         "--format",

@@ -30,6 +30,8 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
 
 /// Parses a whole file. On a syntax error returns its diagnostic; lowering
 /// problems (bad escapes, too-deep expressions) are returned alongside the tree.
+// A syntax error ends the parse, once per file: its size does not matter.
+#[allow(clippy::result_large_err)]
 pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Diagnostic> {
     check_nesting(text, file)?;
     let pairs = Grammar::parse(Rule::file, text).map_err(|e| syntax_error(e, file))?;
@@ -60,6 +62,7 @@ pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
 
 /// Refuses files whose brackets nest deeper than [`MAX_NESTING`], before the
 /// recursive-descent parser sees them.
+#[allow(clippy::result_large_err)]
 fn check_nesting(text: &str, file: u32) -> Result<(), Diagnostic> {
     let bytes = text.as_bytes();
     let mut depth = 0usize;

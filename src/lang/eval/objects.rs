@@ -325,7 +325,7 @@ impl Evaluator {
         let analytic = self.mode(b);
         let resolution = self.prop_count(b, "resolution", 50).and_then(|(r, s)| {
             self.range(
-                r >= 3 && r <= 100_000,
+                (3..=100_000).contains(&r),
                 s,
                 format!("the resolution must be in 3..=100000, not {r}"),
                 "the resolution is the number of segments along the curve and around the axis",
