@@ -74,7 +74,30 @@ pub enum OptionsError {
     BadNoise(f32),
     #[error("pass {pass} of {spp} spp needs sample indices beyond 2^32")]
     PassTooLarge { pass: u32, spp: u32 },
+    #[error(
+        "the {width}×{height} image would need about {gib:.1} GiB of pixel memory \
+         (at most {max_gib} GiB); lower --width/--height or use --crop"
+    )]
+    TooLarge {
+        width: u32,
+        height: u32,
+        gib: f64,
+        max_gib: u64,
+    },
+    #[error(
+        "{samples:.3e} samples ({spp} per pixel) is more than the {max:.0e} a render may trace; \
+         lower --spp or the image size"
+    )]
+    TooManySamples { samples: f64, spp: u32, max: f64 },
 }
+
+/// Bytes the renderer keeps per rendered pixel (accumulator, output and
+/// the encoded image), for the memory estimate.
+const BYTES_PER_PIXEL: u64 = 32;
+/// The most pixel memory a render may allocate, in GiB.
+const MAX_PIXEL_GIB: u64 = 16;
+/// The most samples (pixels × samples per pixel) a render may trace.
+const MAX_SAMPLES: f64 = 1e13;
 
 impl RenderOptions {
     /// The scene's own settings, whole image, every core.
@@ -134,6 +157,24 @@ impl RenderOptions {
                 y1: c.y1,
                 width: self.width,
                 height: self.height,
+            });
+        }
+        let pixels = u64::from(c.x1 - c.x0) * u64::from(c.y1 - c.y0);
+        let bytes = pixels.saturating_mul(BYTES_PER_PIXEL);
+        if bytes > MAX_PIXEL_GIB << 30 {
+            return Err(OptionsError::TooLarge {
+                width: c.x1 - c.x0,
+                height: c.y1 - c.y0,
+                gib: bytes as f64 / (1u64 << 30) as f64,
+                max_gib: MAX_PIXEL_GIB,
+            });
+        }
+        let samples = pixels as f64 * f64::from(self.spp);
+        if samples > MAX_SAMPLES {
+            return Err(OptionsError::TooManySamples {
+                samples,
+                spp: self.spp,
+                max: MAX_SAMPLES,
             });
         }
         Ok(c)

@@ -1,0 +1,13 @@
+//! Fuzz target: the input steers the grammar-aware generator, whose scene
+//! goes through parse, evaluate, world build and a tiny render.
+#![no_main]
+
+#[path = "../../tests/support/gen.rs"]
+mod gen;
+#[path = "../../tests/support/pipeline.rs"]
+mod pipeline;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let text = gen::Gen::from_bytes(data).scene();
+    pipeline::run_scene(text.as_bytes());
+});

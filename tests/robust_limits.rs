@@ -1,0 +1,178 @@
+//! Limits with clear errors: hostile files and oversized requests get a
+//! diagnostic from the built binary — a failure exit code, the expected
+//! diagnostic code, and never a panic or an abort.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const RTLANG: &str = env!("CARGO_BIN_EXE_rtlang");
+
+/// Writes `bytes` to a fresh file named `name` in a private temp directory.
+fn scratch(name: &str, bytes: &[u8]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rtlang-limits-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).expect("write scratch file");
+    path
+}
+
+fn fixture(name: &str) -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/").to_string() + name
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(RTLANG)
+        .args(args)
+        .output()
+        .expect("run rtlang")
+}
+
+/// Runs `rtlang check --format json` on `path` and returns its exit code and
+/// the diagnostic codes it printed, after asserting nothing panicked.
+fn check_codes(path: &Path) -> (Option<i32>, Vec<String>) {
+    let out = run(&[
+        "check",
+        "--format",
+        "json",
+        path.to_str().expect("utf-8 path"),
+    ]);
+    assert_no_panic(&out);
+    let codes = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter_map(|v| v["code"].as_str().map(str::to_string))
+        .collect();
+    (out.status.code(), codes)
+}
+
+fn assert_no_panic(out: &Output) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(!err.contains("stack overflow"), "stack overflow: {err}");
+    assert!(out.status.code().is_some(), "killed by a signal: {err}");
+}
+
+fn assert_refused(name: &str, bytes: &[u8], code: &str) {
+    let (status, codes) = check_codes(&scratch(name, bytes));
+    assert_eq!(status, Some(1), "{name}: {codes:?}");
+    assert!(
+        codes.iter().any(|c| c == code),
+        "{name}: wanted {code}, got {codes:?}"
+    );
+}
+
+#[test]
+fn an_empty_file_is_diagnosed() {
+    assert_refused("empty.rt", b"", "rtlang::empty-file");
+}
+
+#[test]
+fn a_binary_file_is_diagnosed() {
+    let bytes: Vec<u8> = (0..4096u32).map(|i| (i * 7919 % 256) as u8).collect();
+    assert_refused("binary.rt", &bytes, "rtlang::binary-file");
+}
+
+#[test]
+fn a_non_utf8_text_file_is_diagnosed() {
+    assert_refused("latin1.rt", b"// caf\xe9\nsphere { }\n", "rtlang::not-utf8");
+}
+
+#[test]
+fn a_100_mb_file_is_refused_without_reading_it_whole() {
+    let line = b"// padding padding padding padding padding padding padding padding\n";
+    let bytes: Vec<u8> = line.iter().copied().cycle().take(100 << 20).collect();
+    assert_refused("huge.rt", &bytes, "rtlang::file-too-large");
+}
+
+#[test]
+fn ten_thousand_nested_parentheses_are_refused() {
+    let text = format!("let x = {}1{}\n", "(".repeat(10_000), ")".repeat(10_000));
+    let (status, codes) = check_codes(&scratch("parens.rt", text.as_bytes()));
+    assert_eq!(status, Some(1));
+    assert!(codes.iter().any(|c| c == "rtlang::too-deep"), "{codes:?}");
+}
+
+#[test]
+fn ten_thousand_nested_groups_are_refused() {
+    let text = format!("{}{}\n", "group { ".repeat(10_000), "} ".repeat(10_000));
+    let (status, codes) = check_codes(&scratch("groups.rt", text.as_bytes()));
+    assert_eq!(status, Some(1));
+    assert!(codes.iter().any(|c| c == "rtlang::too-deep"), "{codes:?}");
+}
+
+#[test]
+fn ten_thousand_chained_operators_are_refused() {
+    let sum = vec!["1"; 10_000].join(" + ");
+    let pow = vec!["2"; 10_000].join(" ^ ");
+    let neg = "-".repeat(10_000) + "1";
+    for (name, e) in [("sum", sum), ("pow", pow), ("neg", neg)] {
+        let text = format!("let x = {e}\n");
+        let (status, codes) = check_codes(&scratch(&format!("{name}.rt"), text.as_bytes()));
+        assert_eq!(status, Some(1), "{name}: {codes:?}");
+        assert!(
+            codes.iter().any(|c| c == "rtlang::too-deep"),
+            "{name}: {codes:?}"
+        );
+    }
+}
+
+#[test]
+fn a_scene_asking_for_a_huge_image_is_refused_with_the_estimate() {
+    let text = "render { size 1000000 x 1000000 }\nsphere { center (0,0,0) radius 1 material lambertian(rgb(1,1,1)) }\n";
+    let path = scratch("big.rt", text.as_bytes());
+    let out = run(&["check", path.to_str().expect("utf-8 path")]);
+    assert_no_panic(&out);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("GiB"), "no memory estimate in: {err}");
+}
+
+#[test]
+fn a_command_line_asking_for_a_huge_image_is_refused_before_allocating() {
+    let text = "sphere { center (0,0,-3) radius 1 material lambertian(rgb(1,1,1)) }\n";
+    let path = scratch("small.rt", text.as_bytes());
+    let png = std::env::temp_dir().join(format!("rtlang-limits-{}.png", std::process::id()));
+    let args = |w: &str, spp: &str| {
+        let p = path.to_str().expect("utf-8 path").to_string();
+        let o = png.to_str().expect("utf-8 path").to_string();
+        vec![
+            "render".into(),
+            p,
+            "-o".into(),
+            o,
+            "--quiet".into(),
+            "--width".into(),
+            w.into(),
+            "--height".into(),
+            w.into(),
+            "--spp".into(),
+            spp.into(),
+        ]
+    };
+    let huge: Vec<String> = args("4000000000", "1");
+    let out = run(&huge.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_no_panic(&out);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("GiB of pixel memory"), "{err}");
+    let slow: Vec<String> = args("10000", "4000000000");
+    let out = run(&slow.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_no_panic(&out);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("samples"), "{err}");
+    assert!(!png.exists(), "an image was written");
+}
+
+#[test]
+fn meshes_with_no_faces_or_nan_vertices_are_diagnosed() {
+    for obj in ["empty.obj", "nan.obj"] {
+        let text = format!(
+            "mesh \"{}\" {{ material lambertian(rgb(1,1,1)) }}\n",
+            fixture(obj)
+        );
+        let (status, codes) = check_codes(&scratch(&format!("mesh-{obj}.rt"), text.as_bytes()));
+        assert_eq!(status, Some(1), "{obj}: {codes:?}");
+        assert!(!codes.is_empty(), "{obj}: no diagnostic");
+    }
+}

@@ -1,0 +1,5 @@
+//! Code shared by the robustness tests and the fuzz targets.
+#![allow(dead_code)]
+
+pub mod gen;
+pub mod pipeline;
