@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::{Args, ValueEnum};
 use rtlang::picture::{self, LinearImage, PictureError};
 
-/// How the metrics are printed.
+/// How a command's result is printed: for people, or as JSON.
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
 pub enum Format {
     #[default]

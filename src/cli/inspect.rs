@@ -4,17 +4,11 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 use rtlang::scene::mesh::MeshMaterialKind;
 use rtlang::scene::obj::load_obj;
 
-/// How the summary is printed.
-#[derive(Clone, Copy, Debug, Default, ValueEnum)]
-pub enum Format {
-    #[default]
-    Text,
-    Json,
-}
+use super::compare::Format;
 
 /// Load a mesh file and summarise it.
 #[derive(Args)]
