@@ -1,17 +1,28 @@
-//! Every ```rt example in docs/language.md checks clean.
+//! Every ```rt example in docs/language.md and README.md checks clean.
 
 use rtlang::lang::{self, diagnostics::render_plain, Options};
 
 #[test]
 fn every_documented_example_is_clean() {
     let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    assert_examples_clean(&doc, 7, "language");
+}
+
+#[test]
+fn the_readme_tour_is_clean() {
+    let doc = std::fs::read_to_string("README.md").expect("the README");
+    assert_examples_clean(&doc, 1, "readme");
+}
+
+/// Checks every ```rt block of `doc` (at least `min` of them).
+fn assert_examples_clean(doc: &str, min: usize, tag: &str) {
     let blocks: Vec<&str> = doc
         .split("```rt\n")
         .skip(1)
         .filter_map(|b| b.split("```").next())
         .collect();
-    assert!(blocks.len() >= 7, "only {} examples", blocks.len());
-    let dir = std::env::temp_dir().join(format!("rtlang-docs-{}", std::process::id()));
+    assert!(blocks.len() >= min, "only {} examples", blocks.len());
+    let dir = std::env::temp_dir().join(format!("rtlang-docs-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a temporary directory");
     for (i, block) in blocks.iter().enumerate() {
         let path = dir.join(format!("example_{i}.rt"));
