@@ -213,38 +213,28 @@ fn fire(mesh: &MeshData, stride: usize, per_target: usize, seed: u64) -> (usize,
     (crossing, misses)
 }
 
-#[test]
-fn rays_at_icosphere_vertices_and_edges_all_hit() {
-    let (crossing, misses) = fire(&icosphere(3), 1, 4, 11);
-    assert!(crossing > 10_000, "only {crossing} crossing rays");
+/// At least `min` rays crossed the surface and none of them missed.
+fn assert_no_misses((crossing, misses): (usize, Vec<String>), min: usize) {
+    assert!(crossing > min, "only {crossing} crossing rays");
     assert!(
         misses.is_empty(),
         "{} misses: {:?}",
         misses.len(),
         &misses[..misses.len().min(5)]
     );
+}
+
+#[test]
+fn rays_at_icosphere_vertices_and_edges_all_hit() {
+    assert_no_misses(fire(&icosphere(3), 1, 4, 11), 10_000);
 }
 
 #[test]
 fn rays_at_critter_vertices_and_edges_all_hit() {
-    let (crossing, misses) = fire(&critter(), 7, 2, 12);
-    assert!(crossing > 10_000, "only {crossing} crossing rays");
-    assert!(
-        misses.is_empty(),
-        "{} misses: {:?}",
-        misses.len(),
-        &misses[..misses.len().min(5)]
-    );
+    assert_no_misses(fire(&critter(), 7, 2, 12), 10_000);
 }
 
 #[test]
 fn rays_at_cube_corners_and_edges_all_hit() {
-    let (crossing, misses) = fire(&cube(), 1, 400, 13);
-    assert!(crossing > 5_000, "only {crossing} crossing rays");
-    assert!(
-        misses.is_empty(),
-        "{} misses: {:?}",
-        misses.len(),
-        &misses[..misses.len().min(5)]
-    );
+    assert_no_misses(fire(&cube(), 1, 400, 13), 5_000);
 }

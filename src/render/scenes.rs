@@ -77,17 +77,7 @@ pub fn cornell_box(size: u32, spp: u32) -> Scene {
             white,
         ),
     ];
-    s.camera = Camera {
-        from: Vec3::new(278.0, 278.0, -800.0),
-        at: Vec3::new(278.0, 278.0, 0.0),
-        vfov: 40.0,
-        ..Camera::default()
-    };
-    s.settings.width = size;
-    s.settings.height = size;
-    s.settings.spp = spp;
-    s.settings.background = Background::Solid(Vec3::ZERO);
-    s
+    looking_at_the_box_centre(s, Vec3::new(278.0, 278.0, -800.0), size, spp)
 }
 
 /// The contents of the book-2 final scene at `size`² pixels, with a solid
@@ -164,8 +154,14 @@ pub fn book2_final(size: u32, spp: u32) -> Scene {
             child: Box::new(Node::Group(cloud)),
         },
     ];
+    looking_at_the_box_centre(s, Vec3::new(478.0, 278.0, -600.0), size, spp)
+}
+
+/// Both scenes' camera (vfov 40 at the box's centre (278, 278, 0)) and
+/// settings: square, black background.
+fn looking_at_the_box_centre(mut s: Scene, from: Vec3, size: u32, spp: u32) -> Scene {
     s.camera = Camera {
-        from: Vec3::new(478.0, 278.0, -600.0),
+        from,
         at: Vec3::new(278.0, 278.0, 0.0),
         vfov: 40.0,
         ..Camera::default()
