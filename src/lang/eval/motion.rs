@@ -21,14 +21,7 @@ enum SymVal {
 impl Evaluator {
     /// The steps of a `motion { ... }` body.
     pub(super) fn motion_steps(&mut self, body: &[Stmt]) -> Eval<Vec<MotionStep>> {
-        let allow = Allow {
-            what: "motion",
-            props: &[],
-            transforms: true,
-            children: false,
-            size: false,
-            shutter: false,
-        };
+        let allow = Allow::transforms_only("motion");
         let block = self.block(body, &allow);
         let mut steps = Vec::new();
         let mut failed = false;

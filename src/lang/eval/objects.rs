@@ -534,14 +534,7 @@ impl Evaluator {
     /// `place NAME { transforms }`: the defined object, shared as a
     /// prototype when placed more than once.
     pub(super) fn place(&mut self, name: &crate::lang::ast::Ident, body: &[Stmt]) -> Eval<Node> {
-        let allow = Allow {
-            what: "place",
-            props: &[],
-            transforms: true,
-            children: false,
-            size: false,
-            shutter: false,
-        };
+        let allow = Allow::transforms_only("place");
         let block = self.block(body, &allow);
         let transforms = self.apply_transforms(&block.transforms);
         let value = self.lookup(&name.name, name.span)?;

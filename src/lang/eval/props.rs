@@ -22,6 +22,20 @@ pub(super) struct Allow {
     pub shutter: bool,
 }
 
+impl Allow {
+    /// A block that takes transforms and nothing else (`place`, `motion`).
+    pub(super) fn transforms_only(what: &'static str) -> Allow {
+        Allow {
+            what,
+            props: &[],
+            transforms: true,
+            children: false,
+            size: false,
+            shutter: false,
+        }
+    }
+}
+
 /// A block's statements sorted by role.
 #[derive(Default)]
 pub(super) struct Block<'a> {
