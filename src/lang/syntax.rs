@@ -455,6 +455,11 @@ impl Lower {
     }
 
     fn expr(&mut self, pair: Pair<Rule>) -> Expr {
+        let mut inner = pair.into_inner();
+        if inner.len() == 1 {
+            // One primary and no operator, as most expressions in large files.
+            return self.primary(next(&mut inner));
+        }
         let (file, offset) = (self.file, self.offset);
         let cell = std::cell::RefCell::new(std::mem::take(&mut self.diagnostics));
         let result = PRATT
@@ -502,7 +507,7 @@ impl Lower {
                     ExprKind::Binary(bin, Box::new(lhs), Box::new(rhs))
                 })
             })
-            .parse(pair.into_inner());
+            .parse(inner);
         self.diagnostics = cell.into_inner();
         result
     }
