@@ -47,3 +47,28 @@ fn every_scene_parses_to_a_stable_canonical_form() {
         insta::assert_snapshot!(format!("parse_{name}"), canonical);
     }
 }
+
+/// A long file is parsed in batches of items; every span must still point
+/// into the whole file, and a syntax error deep in it must be found where it is.
+#[test]
+fn spans_and_errors_hold_across_the_parser_batches() {
+    let lines: Vec<String> = (0..100).map(|i| format!("let a{i} = {i} + 1\n")).collect();
+    let text = lines.concat();
+    let (ast, problems) = syntax::parse_file(&text, 0).expect("the file parses");
+    assert!(problems.is_empty());
+    assert_eq!(ast.items.len(), 100);
+    for (i, item) in ast.items.iter().enumerate() {
+        let rtlang::lang::ast::Item::Let { name, .. } = item else {
+            panic!("item {i} is not a let: {item:?}");
+        };
+        let at = text.find(&format!("let a{i} ")).expect("the line") + 4;
+        assert_eq!(
+            (name.name.as_str(), name.span.start as usize),
+            (&*format!("a{i}"), at)
+        );
+    }
+    let broken = text.replace("let a70 = 70", "let = 70");
+    let error = syntax::parse_file(&broken, 0).expect_err("a syntax error");
+    let at = broken.find("let = 70").expect("the error") + 4;
+    assert_eq!(error.span.map(|s| s.start as usize), Some(at));
+}

@@ -49,16 +49,19 @@ pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<
     let mut items = Vec::with_capacity(text.len() / 64);
     while lower.offset < text.len() {
         let rest = &text[lower.offset..];
-        let mut pairs = Grammar::parse(Rule::next_item, rest)
-            .map_err(|e| Box::new(syntax_error(e, file, lower.offset)))?;
-        let Some(pair) = pairs.next().and_then(|p| p.into_inner().next()) else {
-            break;
-        };
-        if pair.as_rule() == Rule::EOI {
-            break;
+        let batch = Grammar::parse(Rule::next_items, rest)
+            .map_err(|e| Box::new(syntax_error(e, file, lower.offset)))?
+            .next()
+            .map(|p| p.into_inner());
+        let mut end = None;
+        for pair in batch.into_iter().flatten() {
+            if pair.as_rule() == Rule::EOI {
+                break;
+            }
+            end = Some(pair.as_span().end());
+            items.push(lower.item(pair));
         }
-        let end = pair.as_span().end();
-        items.push(lower.item(pair));
+        let Some(end) = end else { break };
         lower.offset += end;
     }
     Ok((File { items }, lower.diagnostics))
@@ -86,6 +89,12 @@ fn check_nesting(text: &str, file: u32) -> Result<(), Box<Diagnostic>> {
     let mut neg_run = 0usize;
     let mut i = 0;
     while i < bytes.len() {
+        if bytes[i].is_ascii_alphanumeric() || bytes[i] == b'.' || bytes[i] == b'_' {
+            // Names and numbers: the common case, which only ends a run of `-`.
+            neg_run = 0;
+            i += 1;
+            continue;
+        }
         match bytes[i] {
             b'"' => {
                 i += 1;
@@ -184,7 +193,7 @@ fn join_or(names: &[String]) -> String {
 fn rule_name(rule: Rule) -> &'static str {
     match rule {
         Rule::EOI => "end of file",
-        Rule::next_item => "a statement",
+        Rule::next_items => "a statement",
         Rule::item | Rule::let_item | Rule::param_item | Rule::include_item => "a statement",
         Rule::render_item | Rule::camera_item => "a statement",
         Rule::block => "`{`",
