@@ -1,6 +1,7 @@
 //! Renders with known answers: a white furnace, a diffuse plane under a
 //! gradient sky (fails if cosine sampling is wrong), a slab of absorbing
-//! medium transmitting exp(−σd), and an invisible ior-1 dielectric.
+//! medium transmitting exp(−σd), an invisible ior-1 dielectric, and an
+//! ior-10 glass ball that, absorbing nothing, shows just its background.
 
 use glam::{Mat4, Vec3};
 use rtlang::geometry::World;
@@ -205,4 +206,60 @@ fn a_dielectric_of_ior_one_is_invisible() {
         with.stats.rays > without.stats.rays,
         "the ball was not hit at all"
     );
+}
+
+/// Mean and standard error of the mean of one channel over all pixels.
+fn mean_and_error(pixels: &[Vec3]) -> (f64, f64) {
+    let n = pixels.len() as f64;
+    let mean = pixels.iter().map(|p| p.x as f64).sum::<f64>() / n;
+    let var = pixels
+        .iter()
+        .map(|p| (p.x as f64 - mean).powi(2))
+        .sum::<f64>()
+        / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
+#[test]
+fn a_glass_ball_of_ior_ten_in_a_furnace_shows_only_the_background() {
+    // The ball fills the view: from 4 units away it subtends 14.5° off
+    // axis, the camera sees 5°. Fresnel reflects 67 % at each crossing, so
+    // paths bounce inside several times; glass absorbs nothing, so every
+    // path that escapes carries the background, and Russian roulette
+    // reweights the rest: the expected pixel is exactly the background.
+    let scene = |depth: u32| {
+        let mut s = Scene::default();
+        let glass = s.add_material(Material::Dielectric { ior: 10.0 });
+        s.objects = vec![Node::Shape {
+            shape: Shape::Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            },
+            material: glass,
+        }];
+        s.camera = Camera {
+            from: Vec3::new(0.0, 0.0, 4.0),
+            vfov: 10.0,
+            ..Camera::default()
+        };
+        s.settings.background = Background::Solid(Vec3::splat(0.8));
+        s.settings.max_depth = depth;
+        small(&mut s, 16, 16, 64);
+        s
+    };
+    let out = run(&scene(64));
+    assert_eq!(out.stats.dropped, 0, "NaN or infinite samples");
+    assert!(out.pixels.iter().all(|p| p.is_finite()));
+    assert!(out.pixels.iter().all(|p| p.x == p.y && p.y == p.z));
+    // Metric: |mean − 0.8| over the 256 pixels, in standard errors of the
+    // mean estimated from the pixels' spread; each path escapes after a
+    // geometric number of bounces (P(stay) ≈ 0.67), so at depth 64 the
+    // truncation bias is below 1e-10.
+    let (m, se) = mean_and_error(&out.pixels);
+    assert!(se > 0.0 && se < 0.01, "standard error {se}");
+    assert!((m - 0.8).abs() < 5.0 * se, "mean {m} ± {se}");
+    // The yardstick: cut at depth 3, the paths still inside are lost and
+    // the ball shows dark (about 0.8 · 0.78).
+    let (cut, _) = mean_and_error(&run(&scene(3)).pixels);
+    assert!(cut < 0.8 - 20.0 * se, "depth 3 mean {cut}");
 }

@@ -1,6 +1,7 @@
-//! Limits with clear errors: hostile files and oversized requests get a
-//! diagnostic from the built binary — a failure exit code, the expected
-//! diagnostic code, and never a panic or an abort.
+//! Limits with clear errors: hostile files, oversized requests and absurd
+//! command-line numbers get a diagnostic from the built binary — a failure
+//! exit code, the expected diagnostic code or message, and never a panic or
+//! an abort.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -175,4 +176,48 @@ fn meshes_with_no_faces_or_nan_vertices_are_diagnosed() {
         assert_eq!(status, Some(1), "{obj}: {codes:?}");
         assert!(!codes.is_empty(), "{obj}: no diagnostic");
     }
+}
+
+#[test]
+fn absurd_command_line_numbers_are_refused_before_any_work() {
+    let text = "render { size 8 x 6  samples 1 }\nsphere { center (0,0,-3) radius 1 material lambertian(rgb(1,1,1)) }\n";
+    let path = scratch("args.rt", text.as_bytes());
+    let scene = path.to_str().expect("utf-8 path");
+    let dir = path.parent().expect("scratch folder");
+    let padded = dir.join("f{frame:999999999999}.png");
+    let plain = dir.join("args.png");
+    let cases: [(Vec<&str>, i32, &str); 5] = [
+        // Zero-padding to a trillion digits would allocate a terabyte.
+        (vec!["-o", padded.to_str().expect("utf-8")], 1, "at most 20"),
+        (
+            vec!["-o", plain.to_str().expect("utf-8"), "--threads", "100000"],
+            1,
+            "at most 4096",
+        ),
+        (
+            vec!["-o", plain.to_str().expect("utf-8"), "--fps", "0"],
+            2,
+            "(0, 1000]",
+        ),
+        (
+            vec!["-o", plain.to_str().expect("utf-8"), "--fps", "NaN"],
+            2,
+            "(0, 1000]",
+        ),
+        (
+            vec!["-o", plain.to_str().expect("utf-8"), "--fps", "inf"],
+            2,
+            "(0, 1000]",
+        ),
+    ];
+    for (extra, code, needle) in cases {
+        let mut args = vec!["render", scene, "--quiet"];
+        args.extend(extra);
+        let out = run(&args);
+        assert_no_panic(&out);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: `{needle}` not in {err}");
+    }
+    assert!(!plain.exists(), "an image was written");
 }

@@ -75,8 +75,8 @@ pub struct RenderArgs {
     /// Frames A..B (both included); the output needs `{frame}` or `{frame:W}`.
     #[arg(long, value_parser = split::parse_frames, value_name = "A..B")]
     frames: Option<(i64, i64)>,
-    /// Frames per second (the scene's `fps`).
-    #[arg(long, default_value_t = 24.0)]
+    /// Frames per second (the scene's `fps`), in (0, 1000].
+    #[arg(long, default_value_t = 24.0, value_parser = parse_fps)]
     fps: f64,
     /// Progress display.
     #[arg(long, value_enum, default_value_t = Progress::Bar)]
@@ -137,6 +137,16 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
         _ => return Err(format!("unknown unit `{unit}`; use ms, s, m or h")),
     };
     Duration::try_from_secs_f64(seconds).map_err(|e| e.to_string())
+}
+
+/// A frame rate in (0, 1000], the range a scene's `fps` may take.
+fn parse_fps(s: &str) -> Result<f64, String> {
+    let fps: f64 = s.trim().parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if fps > 0.0 && fps <= 1000.0 {
+        Ok(fps)
+    } else {
+        Err(format!("the frame rate must be in (0, 1000], not {fps}"))
+    }
 }
 
 fn parse_crop(s: &str) -> Result<Crop, String> {

@@ -60,6 +60,9 @@ pub fn has_frame_pattern(path: &Path) -> bool {
     path.to_string_lossy().contains("{frame")
 }
 
+/// The widest zero-padding `{frame:W}` may ask for (an i64 has 19 digits).
+const MAX_FRAME_DIGITS: usize = 20;
+
 /// `path` with every `{frame}` replaced by the frame number and every
 /// `{frame:W}` by the number zero-padded to W digits.
 pub fn expand_frame(path: &Path, frame: i64) -> Result<PathBuf, String> {
@@ -78,7 +81,13 @@ pub fn expand_frame(path: &Path, frame: i64) -> Result<PathBuf, String> {
             Some(w) => {
                 let width: usize = w
                     .parse()
-                    .map_err(|_| format!("`{text}`: `{{frame:{w}}}` needs a digit count"))?;
+                    .ok()
+                    .filter(|&width| width <= MAX_FRAME_DIGITS)
+                    .ok_or_else(|| {
+                        format!(
+                            "`{text}`: `{{frame:{w}}}` needs a digit count of at most {MAX_FRAME_DIGITS}"
+                        )
+                    })?;
                 out.push_str(&format!("{frame:0width$}"));
             }
             None => return Err(format!("`{text}`: write `{{frame}}` or `{{frame:4}}`")),
@@ -124,6 +133,9 @@ mod tests {
         assert_eq!(p("out/f{frame:04}.png", 12), Ok("out/f0012.png".into()));
         assert_eq!(p("f{frame}-{frame:2}.exr", 3), Ok("f3-03.exr".into()));
         assert!(p("f{frame:x}.png", 1).is_err());
+        assert_eq!(p("{frame:20}", -1).map(|s| s.len()), Ok(20));
+        assert!(p("f{frame:21}.png", 1).is_err());
+        assert!(p("f{frame:999999999999}.png", 1).is_err());
         assert!(p("f{frame.png", 1).is_err());
         assert!(has_frame_pattern(Path::new("a{frame}.png")));
     }

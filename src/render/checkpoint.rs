@@ -112,6 +112,18 @@ pub fn load(path: &Path, now: &Header) -> Result<Film, CheckpointError> {
         film.sums[i] = Vec3::from_array(c);
         film.kept[i] = u32::from_le_bytes(next(&mut r)?);
         film.taken[i] = u32::from_le_bytes(next(&mut r)?);
+        // A render only adds finite samples and keeps at most those taken.
+        if !film.sums[i].is_finite() || film.kept[i] > film.taken[i] {
+            return Err(err(format!(
+                "corrupt pixel data at pixel {i}: sum {}, {} kept of {} taken",
+                film.sums[i], film.kept[i], film.taken[i]
+            )));
+        }
+    }
+    if r.read(&mut word).map_err(|e| err(e.to_string()))? != 0 {
+        return Err(err(
+            "corrupt pixel data: the file is longer than its region".into(),
+        ));
     }
     let saved_spp = film.taken.iter().copied().max().unwrap_or(0);
     if saved_spp > now.piece.spp {

@@ -49,6 +49,21 @@ impl LightShape {
             LightShape::Sphere { radius, .. } => 2.0 * TAU * radius * radius,
         }
     }
+
+    /// Whether the shape can be sampled: a positive, finite area and, if
+    /// flat, a normal. A face of zero area in object space has no normal
+    /// even when a transform's rounding leaves it a sliver of area; chosen,
+    /// it would emit nothing while taking a share of the selection.
+    fn is_sampleable(&self) -> bool {
+        let facing = match *self {
+            LightShape::Parallelogram { normal, .. } | LightShape::Triangle { normal, .. } => {
+                normal != Vec3::ZERO
+            }
+            LightShape::Sphere { .. } => true,
+        };
+        let a = self.area();
+        facing && a > 0.0 && a.is_finite()
+    }
 }
 
 /// One light: its shape, material and constant emitted radiance.
@@ -116,10 +131,7 @@ impl LightList {
         let lights: Vec<Light> = w
             .found
             .into_iter()
-            .filter(|l| {
-                let a = l.shape.area();
-                a > 0.0 && a.is_finite() && weight[l.material.0 as usize].is_some()
-            })
+            .filter(|l| l.shape.is_sampleable() && weight[l.material.0 as usize].is_some())
             .collect();
         let mut cdf = Vec::with_capacity(lights.len());
         let mut total = 0.0f32;
@@ -155,14 +167,12 @@ impl LightList {
         matches!(self.weight.get(material.0 as usize), Some(Some(_)))
     }
 
-    /// Samples a light point seen from `p`; `None` if the chosen point emits
-    /// nothing towards `p`.
+    /// Samples a light point seen from `p`; `None` if there is no light or
+    /// the chosen point emits nothing towards `p`.
     pub fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<LightSample> {
+        let last = self.lights.len().checked_sub(1)?;
         let u = rng.next_f32() * self.total;
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= u)
-            .min(self.lights.len() - 1);
+        let i = self.cdf.partition_point(|&c| c <= u).min(last);
         let light = &self.lights[i];
         let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
         let (u1, u2) = (rng.next_f32(), rng.next_f32());

@@ -104,28 +104,67 @@ mod tests {
         assert!((mean - 2.0 / 3.0).abs() < 0.005, "mean cosine {mean}");
     }
 
-    #[test]
-    fn ior_one_passes_straight_and_total_internal_reflection_reflects() {
-        let mut rng = Rng::for_sample(1, 2, 3, 4);
-        let dir = Vec3::new(0.6, -0.8, 0.0);
-        let hit = Hit {
+    /// A hit at the origin on a surface with normal +y, seen from its
+    /// front (outside) or back (inside).
+    fn upward_hit(front_face: bool) -> Hit {
+        Hit {
             t: 1.0,
             point: Vec3::ZERO,
             geo_normal: Vec3::Y,
             normal: Vec3::Y,
             uv: glam::Vec2::ZERO,
-            front_face: true,
+            front_face,
             material: crate::scene::MaterialId(0),
-        };
+        }
+    }
+
+    #[test]
+    fn ior_one_passes_straight_and_total_internal_reflection_reflects() {
+        let mut rng = Rng::for_sample(1, 2, 3, 4);
+        let dir = Vec3::new(0.6, -0.8, 0.0);
+        let hit = upward_hit(true);
         for _ in 0..100 {
             assert!((dielectric(dir, &hit, 1.0, &mut rng) - dir).length() < 1e-6);
         }
-        let inside = Hit {
-            front_face: false,
-            ..hit
-        };
+        let inside = upward_hit(false);
         let grazing = Vec3::new(0.9, -(1.0f32 - 0.81).sqrt(), 0.0);
         let out = dielectric(grazing, &inside, 1.5, &mut rng);
         assert!(out.y > 0.0, "total internal reflection expected, got {out}");
+    }
+
+    /// The fraction of `count` paths arriving along `dir` at a surface of
+    /// ior 10 (normal +y) that it reflects.
+    fn reflected_fraction(dir: Vec3, front_face: bool, count: u32) -> f64 {
+        let hit = upward_hit(front_face);
+        let mut rng = Rng::for_sample(10, 0, 0, 0);
+        let reflected = (0..count)
+            .filter(|_| dielectric(dir, &hit, 10.0, &mut rng).y > 0.0)
+            .count();
+        reflected as f64 / count as f64
+    }
+
+    #[test]
+    fn ior_ten_reflects_its_fresnel_fraction() {
+        // Binomial standard error at 200 000 draws is below 0.0012; allow 5.
+        let (count, tolerance) = (200_000, 0.006);
+        // Normal incidence, from either side: ((n − 1)/(n + 1))² = 0.669.
+        let normal = (9.0f64 / 11.0).powi(2);
+        for front_face in [true, false] {
+            let f = reflected_fraction(Vec3::NEG_Y, front_face, count);
+            assert!(
+                (f - normal).abs() < tolerance,
+                "{front_face}: {f} vs {normal}"
+            );
+        }
+        // At Brewster's angle (tan θ = n) only the s-polarised half reflects:
+        // R = ((n² − 1)/(n² + 1))² / 2 = 0.480.
+        let brewster = 10.0f32.atan();
+        let dir = Vec3::new(brewster.sin(), -brewster.cos(), 0.0);
+        let f = reflected_fraction(dir, true, count);
+        let expected = (99.0f64 / 101.0).powi(2) / 2.0;
+        assert!(
+            (f - expected).abs() < tolerance,
+            "Brewster: {f} vs {expected}"
+        );
     }
 }

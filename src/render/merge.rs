@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
+use super::options::RenderOptions;
 use super::piece::PieceInfo;
 
 /// One rendered piece: its file, its sidecar and its linear pixels.
@@ -61,6 +62,21 @@ pub enum MergeError {
         want_w: u32,
         want_h: u32,
     },
+    #[error("the sidecar of `{}` describes no render: {message}", path.display())]
+    #[diagnostic(
+        code(rtlang::merge::sidecar),
+        help("the .json sidecar must be the one `rtlang render` wrote beside the image")
+    )]
+    Sidecar { path: PathBuf, message: String },
+    #[error(
+        "the passes add up to {total} samples per pixel, more than {}",
+        u32::MAX
+    )]
+    #[diagnostic(
+        code(rtlang::merge::spp),
+        help("merge fewer passes, or passes of fewer samples")
+    )]
+    SppOverflow { total: u64 },
     #[error("`{}` reached {reached} of its {spp} samples per pixel", path.display())]
     #[diagnostic(
         code(rtlang::merge::incomplete),
@@ -138,7 +154,8 @@ pub fn merge(pieces: &[Piece], average: bool) -> Result<Merged, MergeError> {
     for (&pass, tiles) in &passes {
         layers.push((tiles[0].info.spp, assemble(pass, tiles, w, h)?));
     }
-    let total_spp: u32 = layers.iter().map(|(spp, _)| spp).sum();
+    let total: u64 = layers.iter().map(|(spp, _)| u64::from(*spp)).sum();
+    let total_spp = u32::try_from(total).map_err(|_| MergeError::SppOverflow { total })?;
     let pixels = match layers.as_slice() {
         [(_, only)] => only.clone(),
         _ => (0..w as usize * h as usize)
@@ -191,6 +208,19 @@ fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
 }
 
 fn check_piece(p: &Piece) -> Result<(), MergeError> {
+    // The sidecar must describe a render the renderer would accept: a
+    // non-empty image of bounded size, at least one sample, a valid pass.
+    let options = RenderOptions {
+        width: p.info.width,
+        height: p.info.height,
+        spp: p.info.spp,
+        pass: p.info.pass,
+        ..RenderOptions::from_settings(&crate::scene::Settings::default())
+    };
+    options.region().map_err(|e| MergeError::Sidecar {
+        path: p.path.clone(),
+        message: e.to_string(),
+    })?;
     let c = p.info.crop();
     let inside = c.x0 < c.x1 && c.y0 < c.y1 && c.x1 <= p.info.width && c.y1 <= p.info.height;
     let (w, h) = if inside {
@@ -219,7 +249,8 @@ fn check_piece(p: &Piece) -> Result<(), MergeError> {
 
 /// Places the tiles of one pass, refusing overlaps, gaps and unequal spp.
 fn assemble(pass: u32, tiles: &[&Piece], w: u32, h: u32) -> Result<Vec<Vec3>, MergeError> {
-    let mut owner: Vec<Option<usize>> = vec![None; w as usize * h as usize];
+    let (w, h) = (w as usize, h as usize);
+    let mut owner: Vec<Option<usize>> = vec![None; w * h];
     let mut pixels = vec![Vec3::ZERO; owner.len()];
     for (t, p) in tiles.iter().enumerate() {
         if p.info.spp != tiles[0].info.spp {
@@ -233,7 +264,7 @@ fn assemble(pass: u32, tiles: &[&Piece], w: u32, h: u32) -> Result<Vec<Vec3>, Me
         let c = p.info.crop();
         for y in c.y0..c.y1 {
             for x in c.x0..c.x1 {
-                let i = (y * w + x) as usize;
+                let i = y as usize * w + x as usize;
                 if let Some(o) = owner[i] {
                     return Err(MergeError::Overlap {
                         first: tiles[o].path.clone(),
@@ -244,7 +275,8 @@ fn assemble(pass: u32, tiles: &[&Piece], w: u32, h: u32) -> Result<Vec<Vec3>, Me
                     });
                 }
                 owner[i] = Some(t);
-                pixels[i] = p.pixels[((y - c.y0) * c.width() + (x - c.x0)) as usize];
+                pixels[i] =
+                    p.pixels[(y - c.y0) as usize * c.width() as usize + (x - c.x0) as usize];
             }
         }
     }
@@ -253,8 +285,8 @@ fn assemble(pass: u32, tiles: &[&Piece], w: u32, h: u32) -> Result<Vec<Vec3>, Me
         return Err(MergeError::Gap {
             pass,
             missing,
-            x: i as u32 % w,
-            y: i as u32 / w,
+            x: (i % w) as u32,
+            y: (i / w) as u32,
         });
     }
     Ok(pixels)

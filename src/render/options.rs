@@ -68,6 +68,8 @@ pub enum OptionsError {
     },
     #[error("{0} threads requested; need at least 1")]
     NoThreads(usize),
+    #[error("{0} threads requested; at most {max} may be started", max = MAX_THREADS)]
+    TooManyThreads(usize),
     #[error("the clamp {0} must be a positive number")]
     BadClamp(f32),
     #[error("the noise target {0} must be a positive number")]
@@ -98,6 +100,8 @@ const BYTES_PER_PIXEL: u64 = 32;
 const MAX_PIXEL_GIB: u64 = 16;
 /// The most samples (pixels × samples per pixel) a render may trace.
 const MAX_SAMPLES: f64 = 1e13;
+/// The most worker threads a render may start.
+const MAX_THREADS: usize = 4096;
 
 impl RenderOptions {
     /// The scene's own settings, whole image, every core.
@@ -133,8 +137,10 @@ impl RenderOptions {
         if let Some(n) = self.noise.filter(|n| n.is_nan() || *n <= 0.0) {
             return Err(OptionsError::BadNoise(n));
         }
-        if self.threads == Some(0) {
-            return Err(OptionsError::NoThreads(0));
+        match self.threads {
+            Some(0) => return Err(OptionsError::NoThreads(0)),
+            Some(n) if n > MAX_THREADS => return Err(OptionsError::TooManyThreads(n)),
+            _ => {}
         }
         if self.first_sample().is_none() {
             return Err(OptionsError::PassTooLarge {

@@ -44,7 +44,9 @@ pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: Vec2, p: Vec3) -> 
 }
 
 /// Bilinear lookup with u wrapping around and v clamped; v = 1 is the top row.
+/// A non-finite coordinate (an overflowed interpolation) reads as 0.
 pub fn bilinear(img: &ImageData, uv: Vec2) -> Vec3 {
+    let uv = Vec2::select(uv.is_finite_mask(), uv, Vec2::ZERO);
     let (w, h) = (img.width as usize, img.height as usize);
     let u = uv.x.rem_euclid(1.0);
     let v = 1.0 - uv.y.clamp(0.0, 1.0);
@@ -140,6 +142,26 @@ mod tests {
         assert_eq!(bilinear(&img, Vec2::new(0.75, 0.5)), Vec3::ONE);
         assert!((bilinear(&img, Vec2::new(0.5, 0.5)).x - 0.5).abs() < 1e-6);
         assert!((bilinear(&img, Vec2::new(0.0, 0.5)).x - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn non_finite_uv_reads_a_pixel_of_the_image() {
+        let img = Arc::new(ImageData {
+            width: 3,
+            height: 2,
+            pixels: (0..6).map(|i| Vec3::splat(i as f32 + 1.0)).collect(),
+        });
+        let odd = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+        for bad in odd {
+            for uv in [Vec2::new(bad, 0.3), Vec2::new(0.3, bad), Vec2::splat(bad)] {
+                let c = bilinear(&img, uv);
+                assert!(c.is_finite() && c.x >= 1.0 && c.x <= 6.0, "{uv}: {c}");
+            }
+        }
+        for huge in [f32::MAX, -f32::MAX, 1e30] {
+            let c = bilinear(&img, Vec2::splat(huge));
+            assert!(c.is_finite() && c.x >= 1.0 && c.x <= 6.0, "{huge}: {c}");
+        }
     }
 
     #[test]

@@ -30,7 +30,16 @@ pub enum ObjError {
     Empty { path: String },
     #[error("`{path}` has a vertex that is not a finite number")]
     NonFinite { path: String },
+    #[error(
+        "`{path}` has {count} materials; a mesh may have at most {}",
+        MAX_MATERIALS
+    )]
+    TooManyMaterials { path: String, count: usize },
 }
+
+/// Materials an OBJ may name: each triangle stores its slot in a u16, and
+/// one slot stays free for faces without a material.
+const MAX_MATERIALS: usize = u16::MAX as usize;
 
 /// Loads the OBJ file at `path`, triangulating polygons.
 pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
@@ -71,6 +80,12 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
             Vec::new()
         }
     };
+    if file_materials.len() > MAX_MATERIALS {
+        return Err(ObjError::TooManyMaterials {
+            path: shown,
+            count: file_materials.len(),
+        });
+    }
     let mut materials: Vec<MeshMaterial> = file_materials
         .iter()
         .map(|m| map_material(m, base, &mut warnings))
@@ -186,10 +201,20 @@ fn vertex_normals(positions: &[Vec3], first: u32, count: usize, tris: &[[u32; 3]
 /// (mirror reflection), → metal with fuzz from the Phong exponent `Ns`;
 /// otherwise diffuse `Kd`, textured by `map_Kd` when that file exists.
 fn map_material(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> MeshMaterial {
-    let rgb = |c: Option<[f32; 3]>| c.map(Vec3::from_array);
-    let kd = rgb(m.diffuse).unwrap_or(Vec3::splat(0.73));
-    let ks = rgb(m.specular).unwrap_or(Vec3::ZERO);
-    let ke = rgb(m.emissive).unwrap_or(Vec3::ZERO);
+    let mut rgb = |key: &str, c: Option<[f32; 3]>, default: Vec3| match c.map(Vec3::from_array) {
+        Some(c) if c.is_finite() && c.min_element() >= 0.0 => c,
+        Some(c) => {
+            warnings.push(format!(
+                "material `{}`: `{key} {} {} {}` is not a colour (components must be finite and not negative); using {} {} {}",
+                m.name, c.x, c.y, c.z, default.x, default.y, default.z
+            ));
+            default
+        }
+        None => default,
+    };
+    let kd = rgb("Kd", m.diffuse, Vec3::splat(0.73));
+    let ks = rgb("Ks", m.specular, Vec3::ZERO);
+    let ke = rgb("Ke", m.emissive, Vec3::ZERO);
     let illum = m.illumination_model.unwrap_or(2);
     let transparent = m.dissolve.is_some_and(|d| d < 1.0) || (4..=7).contains(&illum);
 
@@ -201,7 +226,7 @@ fn map_material(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> 
     } else if (ks.max_element() > 0.0 && ks.max_element() > kd.max_element()) || illum == 3 {
         let ns = m.shininess.unwrap_or(0.0).max(0.0);
         MeshMaterialKind::Metal {
-            color: ks.max(Vec3::splat(0.0)),
+            color: ks,
             fuzz: fuzz_from_shininess(ns),
         }
     } else {

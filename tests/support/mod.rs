@@ -3,3 +3,4 @@
 
 pub mod gen;
 pub mod pipeline;
+pub mod scratch;

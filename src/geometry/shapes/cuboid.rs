@@ -25,8 +25,13 @@ impl Cuboid {
         let inv = ray.dir.recip();
         let t0 = (self.min - ray.origin) * inv;
         let t1 = (self.max - ray.origin) * inv;
-        let near = t0.min(t1);
-        let far = t0.max(t1);
+        // A ray parallel to a slab is inside it for every t or for none; on
+        // its boundary 0·∞ would give a NaN that picks a wrong face.
+        let parallel = ray.dir.cmpeq(Vec3::ZERO);
+        let inside = ray.origin.cmpge(self.min) & ray.origin.cmple(self.max);
+        let (all, none) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        let near = Vec3::select(parallel, Vec3::select(inside, none, all), t0.min(t1));
+        let far = Vec3::select(parallel, Vec3::select(inside, all, none), t0.max(t1));
         let (t_near, t_far) = (near.max_element(), far.min_element());
         if t_near > t_far {
             return None;
