@@ -318,32 +318,217 @@ fn uv_and_normal_follow_the_curve_parameter_and_angle() {
 }
 
 #[test]
-fn newton_failures_are_counted_and_still_give_sane_hits() {
+fn without_newton_the_fallback_alone_gives_the_same_hits() {
+    // One iteration cannot converge from these starts: every span goes to
+    // the fallback, which must find the same nearest hits and prove the
+    // same misses, with nothing left unverified.
     let curve = vase();
     let good = RevolutionSurface::new(&curve, 50, TOLERANCE);
     let starved = RevolutionSurface::new(&curve, 50, TOLERANCE).with_max_iterations(1);
-    let (mut agree, mut total) = (0, 0);
+    let (mut hits, mut total) = (0, 0);
     for ray in random_rays(60, 9) {
         let a = good.intersect(&ray, 0.0, f32::INFINITY);
         let b = starved.intersect(&ray, 0.0, f32::INFINITY);
-        if let Some(b) = b {
-            assert_sane(&b, &ray);
-            assert!(surface_distance(&curve, b.point) < 1e-4);
-        }
         total += 1;
-        if a.map(|h| h.t)
-            .zip(b.map(|h| h.t))
-            .is_some_and(|(x, y)| (x - y).abs() < 1e-3)
-            || (a.is_none() && b.is_none())
-        {
-            agree += 1;
+        match (a, b) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                assert_sane(&b, &ray);
+                assert!(surface_distance(&curve, b.point) < 1e-4);
+                assert!((a.t - b.t).abs() < 1e-4, "{} vs {}", a.t, b.t);
+                hits += 1;
+            }
+            _ => panic!("hit or miss differs without Newton: {a:?} {b:?}"),
         }
     }
-    assert!(
-        starved.newton_failures() > 0,
-        "one iteration cannot converge"
+    assert!(hits * 3 >= total, "only {hits} of {total} rays hit");
+    assert_eq!(good.newton_failures(), 0);
+    assert_eq!(starved.newton_failures(), 0);
+}
+
+#[test]
+fn an_unprovable_tangency_is_counted_and_stays_on_the_surface() {
+    // A ray touching the cylinder (a double root: the crossing polynomial
+    // cannot bracket it, no box ever separates it). With Newton switched off
+    // nothing can verify the contact: it is counted, and the point returned
+    // is within the tolerance of the surface.
+    let surface = RevolutionSurface::new(&cylinder(), 4, TOLERANCE).with_max_iterations(0);
+    let ray = Ray::new(Vec3::new(1.0, 0.2, -5.0), Vec3::Z, 0.0);
+    let h = surface
+        .intersect(&ray, 0.0, f32::INFINITY)
+        .expect("touches");
+    assert!((h.t - 5.0).abs() < 1e-3, "t {}", h.t);
+    assert!(surface_distance(&cylinder(), h.point) < 1e-5);
+    assert!(surface.newton_failures() > 0);
+    // With Newton, the same contact converges and nothing is counted.
+    let surface = RevolutionSurface::new(&cylinder(), 4, TOLERANCE);
+    let h = surface
+        .intersect(&ray, 0.0, f32::INFINITY)
+        .expect("touches");
+    assert!((h.t - 5.0).abs() < 1e-3, "t {}", h.t);
+    assert_eq!(surface.newton_failures(), 0);
+}
+
+/// An independent reference for the vase, whose height falls monotonically
+/// along the curve: the signed radial gap `|x(s)| − ρ` between the surface
+/// and the ray point at `t` (positive inside), with `s` found by bisection
+/// on the height; `None` above the rim or below the foot.
+fn vase_gap(ray: &Ray, t: f64) -> Option<f64> {
+    let bezier = |s: f64| {
+        let c = [
+            (1.0 - s).powi(3),
+            3.0 * s * (1.0 - s).powi(2),
+            3.0 * s * s * (1.0 - s),
+            s.powi(3),
+        ];
+        let pts = vase().to_f64();
+        pts.iter()
+            .zip(c)
+            .fold(glam::DVec2::ZERO, |acc, (p, w)| acc + *p * w)
+    };
+    let p = ray.origin.as_dvec3() + t * ray.dir.as_dvec3();
+    if !(-2.0..=2.0).contains(&p.y) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..48 {
+        let mid = 0.5 * (lo + hi);
+        if bezier(mid).y > p.y {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(bezier(0.5 * (lo + hi)).x.abs() - glam::DVec2::new(p.x, p.z).length())
+}
+
+/// The reference's first crossing along the ray (dense sampling, then
+/// bisection), and the smallest |gap| seen before it: a ray that crosses
+/// nowhere but comes closer than the tolerance is tangent within it, and
+/// either answer is right.
+fn vase_reference(ray: &Ray, (t_lo, t_hi): (f64, f64)) -> (Option<f64>, f64) {
+    let n = 4000;
+    let mut previous: Option<(f64, f64)> = None;
+    let mut closest = f64::INFINITY;
+    for i in 0..=n {
+        let t = t_lo + (t_hi - t_lo) * i as f64 / n as f64;
+        let Some(g) = vase_gap(ray, t) else {
+            previous = None;
+            continue;
+        };
+        closest = closest.min(g.abs());
+        if let Some((t0, g0)) = previous {
+            if (g0 > 0.0) != (g > 0.0) {
+                let (mut a, mut b) = (t0, t);
+                for _ in 0..60 {
+                    let m = 0.5 * (a + b);
+                    let gm = vase_gap(ray, m).unwrap_or(g0);
+                    if (gm > 0.0) == (g0 > 0.0) {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                return (Some(0.5 * (a + b)), closest);
+            }
+        }
+        previous = Some((t, g));
+    }
+    (None, closest)
+}
+
+#[test]
+fn a_captured_grazing_miss_is_proven_and_a_ray_just_inside_hits() {
+    // Captured from `scenes/vase.rt` at 64×64, 8 spp (camera ray, object
+    // space): Newton stalled in the span of piece [0.96, 0.98] and the old
+    // fallback reported a hit at t = 9.2825 and counted a Newton failure,
+    // though the ray passes 1.8e-5 outside the foot of the vase.
+    let scene_tolerance = 1e-4;
+    let surface = RevolutionSurface::new(&vase(), 50, scene_tolerance);
+    let ray = Ray::new(
+        Vec3::new(0.0, 0.0, 9.0),
+        Vec3::new(-0.197_278_35, -0.196_258_62, -0.960_501_8),
+        0.0,
     );
-    assert!(agree * 10 >= total * 9, "{agree}/{total} agree");
+    let (crossing, closest) = vase_reference(&ray, (8.0, 11.0));
+    assert!(
+        crossing.is_none() && closest > 1e-5,
+        "{crossing:?} {closest}"
+    );
+    assert!(surface.intersect(&ray, 0.0, f32::INFINITY).is_none());
+    assert_eq!(surface.newton_failures(), 0);
+
+    // The same ray moved 1e-4 towards the axis crosses the surface twice
+    // close together (the hard case for Newton): the nearest crossing is
+    // found where the reference puts it.
+    let t_close = 9.32106f32;
+    let p = ray.at(t_close);
+    let inward = -Vec3::new(p.x, 0.0, p.z).normalize() * 1e-4;
+    let inside = Ray::new(ray.origin + inward, ray.dir, 0.0);
+    let (crossing, _) = vase_reference(&inside, (8.0, 11.0));
+    let expected = crossing.expect("the moved ray crosses");
+    let h = surface.intersect(&inside, 0.0, f32::INFINITY).expect("hit");
+    let tolerance = scene_tolerance as f64 * 8.0; // × the vase's size
+    assert!(
+        (h.t as f64 - expected).abs() * (inside.dir.length() as f64) < tolerance,
+        "t {} vs reference {expected}",
+        h.t
+    );
+    assert_eq!(surface.newton_failures(), 0);
+}
+
+#[test]
+fn grazing_rays_agree_with_the_reference_on_hit_or_miss() {
+    // Rays from the vase.rt camera aimed within ±1 % of the silhouette
+    // radius at every height: the hardest rays for Newton. Hit or miss must
+    // match the reference wherever the ray is not tangent within the
+    // tolerance, the nearest hit must be where the reference puts it, and no
+    // span may be left unverified.
+    let mut rng = Rng(17);
+    for tolerance in [1e-4f32, 1e-6] {
+        let surface = RevolutionSurface::new(&vase(), 50, tolerance);
+        let absolute = tolerance as f64 * 8.0;
+        let (mut compared, mut hits) = (0, 0);
+        for _ in 0..300 {
+            let y = rng.range(-1.95, 1.95);
+            let s = {
+                let (mut lo, mut hi) = (0.0f32, 1.0f32);
+                for _ in 0..30 {
+                    let mid = 0.5 * (lo + hi);
+                    if vase().point(mid).y > y {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                lo
+            };
+            let r = vase().point(s).x.abs() * (1.0 + rng.range(-0.01, 0.01));
+            let side = if rng.next() < 0.5 { -1.0 } else { 1.0 };
+            let from = Vec3::new(0.0, 0.0, 9.0);
+            let ray = Ray::new(from, Vec3::new(side * r, y, 0.0) - from, 0.0);
+            let (crossing, closest) = vase_reference(&ray, (0.6, 1.4));
+            let found = surface.intersect(&ray, 0.0, f32::INFINITY);
+            if crossing.is_none() && closest < absolute {
+                continue;
+            }
+            compared += 1;
+            match (crossing, found) {
+                (None, None) => {}
+                (Some(t), Some(h)) => {
+                    hits += 1;
+                    let gap = (h.t as f64 - t).abs() * ray.dir.length() as f64;
+                    assert!(gap < absolute, "t {} vs reference {t}", h.t);
+                }
+                (c, f) => panic!("reference {c:?}, surface {f:?} for {ray:?}"),
+            }
+        }
+        assert!(
+            compared > 250 && hits > 50,
+            "{compared} compared, {hits} hits"
+        );
+        assert_eq!(surface.newton_failures(), 0);
+    }
 }
 
 #[test]

@@ -49,10 +49,7 @@ fn gallery_thumbnails_drop_no_sample() {
     assert!(bad.is_empty(), "{bad:#?}");
 }
 
-// Known open: mesh.rt (3) and vase.rt (1) count Newton stalls at 64×64, 8 spp.
-// The fallback subdivision then still resolves those rays, so no hit is lost.
 #[test]
-#[ignore = "open: Newton stalls on mesh.rt and vase.rt (see docs/testing.md)"]
 fn gallery_thumbnails_never_fail_newton() {
     let bad = thumbnails_with_nonzero(true);
     assert!(bad.is_empty(), "{bad:#?}");

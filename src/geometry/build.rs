@@ -74,8 +74,8 @@ impl World {
         &self.lights
     }
 
-    /// Newton iterations that failed to converge, over all analytic
-    /// surfaces of revolution so far.
+    /// Intersections that neither Newton nor its fallback could verify,
+    /// over all analytic surfaces of revolution so far.
     pub fn newton_failures(&self) -> u64 {
         self.revolutions.iter().map(|r| r.newton_failures()).sum()
     }

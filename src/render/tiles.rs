@@ -36,7 +36,8 @@ pub struct RenderStats {
     pub rays: u64,
     /// Samples dropped because they came out NaN or infinite.
     pub dropped: u64,
-    /// Newton iterations of analytic revolution surfaces that failed.
+    /// Intersections with analytic revolution surfaces that neither Newton
+    /// nor its fallback could verify (see docs/accuracy.md).
     pub newton_failures: u64,
     /// Fewest and most samples any pixel traced (they differ under
     /// adaptive sampling).

@@ -1,9 +1,11 @@
 //! Surfaces of revolution of a Bézier profile about the y axis: tessellation
 //! (mesh mode) and analytic intersection by Newton iteration started inside
-//! exact bounding shells, with a subdivision fallback.
+//! exact bounding shells, with a crossing polynomial that proves pieces free
+//! and a subdivision fallback that settles what Newton leaves open.
 
 mod distance;
 mod fallback;
+mod meridian;
 mod newton;
 mod profile;
 mod shell;
@@ -19,7 +21,9 @@ use crate::scene::Bezier;
 pub use distance::{surface_distance, tessellation_error_bound};
 pub use tessellate::tessellate;
 
-use newton::{Outcome, Window};
+use fallback::Verdict;
+use meridian::{Signs, Weights};
+use newton::Window;
 use profile::Profile;
 use shell::{AxisRay, Node, Piece, Shells};
 
@@ -41,6 +45,7 @@ pub struct SurfaceHit {
 pub struct RevolutionSurface {
     profile: Profile,
     shells: Shells,
+    weights: Weights,
     /// Absolute tolerance: `tolerance` × the profile's size.
     tolerance: f64,
     max_iterations: u32,
@@ -61,6 +66,7 @@ impl RevolutionSurface {
         };
         RevolutionSurface {
             tolerance: relative * profile.scale,
+            weights: Weights::new(profile.points.len() - 1),
             profile,
             shells,
             max_iterations: DEFAULT_MAX_ITERATIONS,
@@ -121,9 +127,13 @@ impl RevolutionSurface {
         best.map(|(s, t)| self.hit_at(&axis_ray, s, t))
     }
 
-    /// The nearest root in one piece's `[lo, hi]`: Newton from the entry,
-    /// the middle and the exit of the span; if none converges but one
-    /// stalled inside the span, the subdivision fallback (counted).
+    /// The nearest root in one piece's `[lo, hi]`. A piece the crossing
+    /// polynomial proves free is skipped; otherwise Newton from the entry,
+    /// the middle and the exit of the span. If none converges in the span,
+    /// the fallback settles it — unless the polynomial says the piece holds
+    /// exactly one crossing and Newton found it outside the span (a ray
+    /// leaving the surface finds the point it left). What the fallback
+    /// cannot prove is counted.
     fn solve_piece(
         &self,
         ray: &AxisRay,
@@ -132,10 +142,11 @@ impl RevolutionSurface {
         hi: f64,
         t_min: f64,
     ) -> Option<(f64, f64)> {
-        if lo > hi {
+        let signs = meridian::signs(ray, &piece.points, &self.weights);
+        if lo > hi || signs == Signs::Free {
             return None;
         }
-        let window = Window {
+        let mut window = Window {
             s0: piece.s0,
             s1: piece.s1,
             t0: lo,
@@ -143,29 +154,28 @@ impl RevolutionSurface {
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
         };
-        let mut stalled = false;
+        let mut outside = false;
         for t in [lo, 0.5 * (lo + hi), hi] {
             let s = self.start_parameter(ray, piece, t);
-            match newton::solve(&self.profile, ray, s, t, &window) {
-                Outcome::Root { s, t } if t > t_min && t <= hi + (hi - lo) * 1e-3 => {
+            if let Some((s, t)) = newton::solve(&self.profile, ray, s, t, &window) {
+                if t > t_min && t <= hi + (hi - lo) * 1e-3 {
                     return Some((s, t));
                 }
-                Outcome::Stalled { .. } => stalled = true,
-                _ => {}
+                outside |= s > piece.s0 && s < piece.s1;
             }
         }
-        if !stalled {
+        if outside && signs == Signs::One {
             return None;
         }
-        self.newton_failures.fetch_add(1, Ordering::Relaxed);
-        let lo = lo.max(t_min.next_up());
-        fallback::subdivide(
-            ray,
-            &piece.points,
-            (piece.s0, piece.s1),
-            (lo, hi),
-            self.tolerance,
-        )
+        window.t0 = lo.max(t_min.next_up());
+        match fallback::settle(&self.profile, &self.weights, ray, &piece.points, &window) {
+            Verdict::Miss => None,
+            Verdict::Hit { s, t } => Some((s, t)),
+            Verdict::Unverified(found) => {
+                self.newton_failures.fetch_add(1, Ordering::Relaxed);
+                found
+            }
+        }
     }
 
     /// A start value for `s` at ray distance `t`: the piece's parameter
@@ -196,7 +206,11 @@ impl RevolutionSurface {
         }
     }
 
-    /// How many intersections fell back because Newton did not converge.
+    /// How many spans neither Newton nor the fallback could settle: no
+    /// converged root, no bracketed crossing and no proof of a miss (a ray
+    /// touching the surface closer than the fallback resolves, or its visit
+    /// budget running out). Those still return the nearest point where the
+    /// ray passes within the tolerance, if any.
     pub fn newton_failures(&self) -> u64 {
         self.newton_failures.load(Ordering::Relaxed)
     }

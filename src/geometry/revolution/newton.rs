@@ -4,19 +4,6 @@
 use super::profile::Profile;
 use super::shell::AxisRay;
 
-/// How a Newton run ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Outcome {
-    /// Converged to `(s, t)`.
-    Root { s: f64, t: f64 },
-    /// Left the allowed parameter window or met a singular Jacobian before
-    /// converging far from any root: no root near this start.
-    Left,
-    /// Ran out of iterations (or hit a singular Jacobian) while still inside
-    /// the window: a genuine failure to converge.
-    Stalled { s: f64, t: f64 },
-}
-
 /// The allowed window and the stopping rule of one Newton run.
 #[derive(Clone, Copy, Debug)]
 pub struct Window {
@@ -29,9 +16,17 @@ pub struct Window {
     pub max_iterations: u32,
 }
 
-/// Runs Newton from `(s, t)`. The result is a root only if the final step
-/// and the residual are both below the tolerance in object-space distance.
-pub fn solve(profile: &Profile, ray: &AxisRay, mut s: f64, mut t: f64, w: &Window) -> Outcome {
+/// Runs Newton from `(s, t)`: the root `(s, t)` if the final step and the
+/// residual are both below the tolerance in object-space distance; `None`
+/// if it leaves the window, meets a singular Jacobian or runs out of
+/// iterations, which proves nothing about a root (the fallback settles it).
+pub fn solve(
+    profile: &Profile,
+    ray: &AxisRay,
+    mut s: f64,
+    mut t: f64,
+    w: &Window,
+) -> Option<(f64, f64)> {
     let dir_len = ray.dir.length();
     let s_slack = 1e-3 * (w.s1 - w.s0);
     let t_slack = 1e-3 * (w.t1 - w.t0) + w.tolerance / dir_len;
@@ -46,27 +41,26 @@ pub fn solve(profile: &Profile, ray: &AxisRay, mut s: f64, mut t: f64, w: &Windo
         let j22 = -ray.dir.y;
         let det = j11 * j22 - j12 * j21;
         if det == 0.0 || !det.is_finite() {
-            return Outcome::Stalled { s, t };
+            return None;
         }
         let ds = (f1 * j22 - f2 * j12) / det;
         let dt = (j11 * f2 - j21 * f1) / det;
         s -= ds;
         t -= dt;
-        if !(s.is_finite() && t.is_finite()) {
-            return Outcome::Left;
-        }
-        if s < w.s0 - s_slack || s > w.s1 + s_slack || t < w.t0 - t_slack || t > w.t1 + t_slack {
-            return Outcome::Left;
+        if !(s.is_finite() && t.is_finite())
+            || s < w.s0 - s_slack
+            || s > w.s1 + s_slack
+            || t < w.t0 - t_slack
+            || t > w.t1 + t_slack
+        {
+            return None;
         }
         let step = ds.abs() * d.length() + dt.abs() * dir_len;
         if step < w.tolerance && residual(profile, ray, s, t) < w.tolerance {
-            return Outcome::Root {
-                s: s.clamp(0.0, 1.0),
-                t,
-            };
+            return Some((s.clamp(0.0, 1.0), t));
         }
     }
-    Outcome::Stalled { s, t }
+    None
 }
 
 /// The distance-like residual at `(s, t)`: the height mismatch and the

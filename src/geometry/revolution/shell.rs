@@ -38,7 +38,7 @@ impl AxisRay {
     }
 
     /// The `t` interval on which the squared axis distance is `≤ r2`, if any.
-    fn within_radius(&self, r2: f64) -> Option<(f64, f64)> {
+    pub fn within_radius(&self, r2: f64) -> Option<(f64, f64)> {
         let k = self.c - r2;
         if self.a <= 0.0 {
             return (k <= 0.0).then_some((f64::NEG_INFINITY, f64::INFINITY));
