@@ -72,3 +72,52 @@ fn spans_and_errors_hold_across_the_parser_batches() {
     let at = broken.find("let = 70").expect("the error") + 4;
     assert_eq!(error.span.map(|s| s.start as usize), Some(at));
 }
+
+/// A text of `reps` copies of a snippet with items that span lines, comments
+/// that hide item keywords at line starts, and a string with a bad escape
+/// (a lowering diagnostic) in every copy.
+fn long_text(reps: usize) -> String {
+    let mut text = String::new();
+    for i in 0..reps {
+        text.push_str(&format!(
+            "let a{i} = {i} +\n  1\nlet b{i} = true\n  and false\n/* a comment\nsphere {{ radius 1 }}\n*/\n\
+             sphere {{\n  center ({i}, 0, 0)\n  radius 0.5\n}}\ngroup {{\n  translate (1, 2, 3)\n  box {{ min (0, 0, 0) max (1, 1, 1) }}\n}}\n\
+             // sphere {{ radius 2 }}\nmesh \"m{i}\\q.obj\" {{ scale 2 }}\n"
+        ));
+    }
+    text
+}
+
+/// A long file parsed on several cores gives exactly what one core gives:
+/// the same tree, the same spans, the same diagnostics in the same order;
+/// and a syntax error in a late piece is reported as a sequential parse
+/// reports it.
+#[test]
+fn parsing_in_pieces_matches_parsing_in_one() {
+    let text = long_text(6000);
+    let cuts = rtlang::lang::scan::check(&text, 0, 4).expect("scan");
+    assert_eq!(cuts.len(), 5, "the text is cut into four pieces");
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("a thread pool")
+    };
+    let parse = |n: usize, text: &str| pool(n).install(|| syntax::parse_file(text, 0));
+    let (one, one_problems) = parse(1, &text).expect("parses");
+    let (four, four_problems) = parse(4, &text).expect("parses");
+    assert_eq!(one.items.len(), 6000 * 5);
+    assert_eq!(one_problems.len(), 6000, "one bad escape per copy");
+    assert!(one == four, "the trees differ");
+    assert_eq!(
+        format!("{one_problems:?}"),
+        format!("{four_problems:?}"),
+        "the diagnostics differ"
+    );
+    let broken = text.replacen("let a5000 = 5000 +", "let a5000 = 5000 + +", 1);
+    let late = |n| parse(n, &broken).map(|_| ()).expect_err("a syntax error");
+    let (one, four) = (late(1), late(4));
+    assert_eq!(one.span, four.span);
+    assert_eq!(one.message, four.message);
+    assert!(one.span.is_some_and(|s| s.start as usize > text.len() / 2));
+}

@@ -11,6 +11,7 @@ mod eval;
 pub mod expr;
 pub mod names;
 pub mod pretty;
+pub mod scan;
 pub mod source;
 pub mod syntax;
 

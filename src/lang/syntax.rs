@@ -1,24 +1,22 @@
 //! Parsing: source text → [`ast::File`] with byte spans, through the pest
-//! grammar in `grammar/rtlang.pest`. Also the input limits checked before
-//! parsing (nesting depth), so no input can exhaust the stack.
+//! grammar in `grammar/rtlang.pest`, after the limits of [`scan`].
 
 use std::sync::LazyLock;
 
 use pest::iterators::{Pair, Pairs};
 use pest::pratt_parser::{Assoc, Op, PrattParser};
 use pest::Parser;
+use rayon::prelude::*;
 
 use super::ast::*;
 use super::diagnostics::Diagnostic;
+use super::scan;
 
 #[derive(pest_derive::Parser)]
 #[grammar = "grammar/rtlang.pest"]
 struct Grammar;
 
-/// Deepest bracket nesting accepted in a file.
-pub const MAX_NESTING: usize = 64;
-/// Deepest expression tree accepted (operator chains count one per operator).
-pub const MAX_EXPR_DEPTH: usize = 256;
+pub use super::scan::{MAX_EXPR_DEPTH, MAX_NESTING};
 
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     PrattParser::new()
@@ -39,37 +37,67 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
 
 /// Parses a whole file. On a syntax error returns its diagnostic; lowering
 /// problems (bad escapes, too-deep expressions) are returned alongside the tree.
+///
+/// A long file is cut where [`scan::check`] finds an item boundary and the
+/// pieces are parsed on all cores; the result is the same as one sequential
+/// parse, which is what runs (and reports the error) when any piece fails.
 pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<Diagnostic>> {
-    check_nesting(text, file)?;
+    let pieces = (text.len() / scan::MIN_PIECE).clamp(1, rayon::current_num_threads());
+    let cuts = scan::check(text, file, pieces)?;
+    if cuts.len() > 2 {
+        let parsed: Result<Vec<_>, _> = cuts
+            .par_windows(2)
+            .map(|w| parse_range(text, file, w[0], w[1]))
+            .collect();
+        if let Ok(parsed) = parsed {
+            let mut items = Vec::with_capacity(parsed.iter().map(|(f, _)| f.items.len()).sum());
+            let mut diagnostics = Vec::new();
+            for (piece, problems) in parsed {
+                items.extend(piece.items);
+                diagnostics.extend(problems);
+            }
+            return Ok((File { items }, diagnostics));
+        }
+    }
+    parse_range(text, file, 0, text.len())
+}
+
+/// Parses the items in `text[start..end]`, with spans in the whole file.
+fn parse_range(
+    text: &str,
+    file: u32,
+    start: usize,
+    end: usize,
+) -> Result<(File, Vec<Diagnostic>), Box<Diagnostic>> {
     let mut lower = Lower {
         file,
-        offset: 0,
+        offset: start,
         diagnostics: Vec::new(),
     };
-    let mut items = Vec::with_capacity(text.len() / 64);
-    while lower.offset < text.len() {
-        let rest = &text[lower.offset..];
+    let mut items = Vec::with_capacity((end - start) / 64);
+    while lower.offset < end {
+        let rest = &text[lower.offset..end];
         let batch = Grammar::parse(Rule::next_items, rest)
             .map_err(|e| Box::new(syntax_error(e, file, lower.offset)))?
             .next()
             .map(|p| p.into_inner());
-        let mut end = None;
+        let mut consumed = None;
         for pair in batch.into_iter().flatten() {
             if pair.as_rule() == Rule::EOI {
                 break;
             }
-            end = Some(pair.as_span().end());
+            consumed = Some(pair.as_span().end());
             items.push(lower.item(pair));
         }
-        let Some(end) = end else { break };
-        lower.offset += end;
+        let Some(consumed) = consumed else { break };
+        lower.offset += consumed;
     }
     Ok((File { items }, lower.diagnostics))
 }
 
 /// Parses a single expression (a `-D` value); `None` if it is not one.
 pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
-    check_nesting(text, file).ok()?;
+    scan::check(text, file, 1).ok()?;
     let mut pairs = Grammar::parse(Rule::define_value, text).ok()?;
     let mut lower = Lower {
         file,
@@ -78,82 +106,6 @@ pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
     };
     let expr = lower.expr(pairs.next()?.into_inner().next()?);
     lower.diagnostics.is_empty().then_some(expr)
-}
-
-/// Refuses files whose brackets nest deeper than [`MAX_NESTING`], before the
-/// recursive-descent parser sees them.
-fn check_nesting(text: &str, file: u32) -> Result<(), Box<Diagnostic>> {
-    let bytes = text.as_bytes();
-    let mut depth = 0usize;
-    let mut pow_run = 0usize;
-    let mut neg_run = 0usize;
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i].is_ascii_alphanumeric() || bytes[i] == b'.' || bytes[i] == b'_' {
-            // Names and numbers: the common case, which only ends a run of `-`.
-            neg_run = 0;
-            i += 1;
-            continue;
-        }
-        match bytes[i] {
-            b'"' => {
-                i += 1;
-                while i < bytes.len() && bytes[i] != b'"' && bytes[i] != b'\n' {
-                    i += if bytes[i] == b'\\' { 2 } else { 1 };
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                while i < bytes.len() && bytes[i] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i += 2;
-                while i < bytes.len() && !(bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/')) {
-                    i += 1;
-                }
-                i += 1;
-            }
-            b'(' | b'[' | b'{' => {
-                depth += 1;
-                if depth > MAX_NESTING {
-                    return Err(Diagnostic::error(
-                        "rtlang::too-deep",
-                        Span::new(file, i, i + 1),
-                        format!("brackets nest more than {MAX_NESTING} deep"),
-                    )
-                    .label("this bracket is too deep")
-                    .help("flatten the expression with `let` definitions")
-                    .into());
-                }
-            }
-            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-        let Some(&byte) = bytes.get(i) else { break };
-        match byte {
-            b'(' | b')' | b'[' | b']' | b'{' | b'}' | b',' => pow_run = 0,
-            b'^' => pow_run += 1,
-            _ => {}
-        }
-        match byte {
-            b'-' => neg_run += 1,
-            b' ' | b'\t' | b'\r' | b'\n' => {}
-            _ => neg_run = 0,
-        }
-        if pow_run > MAX_EXPR_DEPTH || neg_run > MAX_EXPR_DEPTH {
-            return Err(Diagnostic::error(
-                "rtlang::too-deep",
-                Span::new(file, i, i + 1),
-                format!("more than {MAX_EXPR_DEPTH} chained `^` or `-` operators"),
-            )
-            .label("too deep")
-            .help("split the expression into several `let` definitions")
-            .into());
-        }
-        i += 1;
-    }
-    Ok(())
 }
 
 /// Turns pest's error into a diagnostic with words a user understands.
