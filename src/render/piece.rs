@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::options::{Crop, RenderOptions};
+use crate::scene::digest::Fnv;
 use crate::scene::Scene;
 
 /// The sidecar of one rendered image.
@@ -109,24 +110,13 @@ pub fn sidecar_path(image: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-/// A 64-bit FNV-1a hash, fed through `fmt::Write`.
-struct Fnv(u64);
-
-impl std::fmt::Write for Fnv {
-    fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        for b in s.bytes() {
-            self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
-        }
-        Ok(())
-    }
-}
-
 /// A hex hash of the evaluated scene: camera, textures, materials, meshes,
-/// objects and background. The settings that command-line options override
-/// (size, spp, seed, depth) are left out; they are recorded and checked one
-/// by one.
+/// objects and background (meshes and images enter by their digests, see
+/// [`crate::scene::digest`]). The settings that command-line options
+/// override (size, spp, seed, depth) are left out; they are recorded and
+/// checked one by one.
 pub fn scene_identity(scene: &Scene) -> String {
-    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    let mut h = Fnv::default();
     let _ = write!(
         h,
         "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
@@ -138,7 +128,7 @@ pub fn scene_identity(scene: &Scene) -> String {
         scene.objects,
         scene.settings.background
     );
-    format!("{:016x}", h.0)
+    format!("{:016x}", h.finish())
 }
 
 #[cfg(test)]
@@ -154,6 +144,35 @@ mod tests {
         assert_eq!(scene_identity(&a), scene_identity(&b));
         b.camera.vfov += 1.0;
         assert_ne!(scene_identity(&a), scene_identity(&b));
+    }
+
+    #[test]
+    fn identity_sees_one_changed_vertex_or_pixel() {
+        use crate::scene::{ImageData, MeshData, Texture};
+        use glam::Vec3;
+        use std::sync::Arc;
+        let mut a = Scene::default();
+        a.meshes.push(Arc::new(MeshData {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            triangles: vec![[0, 1, 2]],
+            ..MeshData::default()
+        }));
+        a.textures.push(Texture::Image(Arc::new(ImageData {
+            width: 2,
+            height: 1,
+            pixels: vec![Vec3::ONE, Vec3::ZERO],
+        })));
+        let mut moved = a.clone();
+        Arc::make_mut(&mut moved.meshes[0]).positions[2].y = f32::from_bits(1.0f32.to_bits() + 1);
+        assert_ne!(scene_identity(&a), scene_identity(&moved));
+        let mut repainted = a.clone();
+        repainted.textures[0] = Texture::Image(Arc::new(ImageData {
+            width: 2,
+            height: 1,
+            pixels: vec![Vec3::ONE, Vec3::new(0.0, 0.0, 1e-30)],
+        }));
+        assert_ne!(scene_identity(&a), scene_identity(&repainted));
+        assert_eq!(scene_identity(&a), scene_identity(&a.clone()));
     }
 
     #[test]

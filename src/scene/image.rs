@@ -5,11 +5,22 @@ use std::path::Path;
 use glam::Vec3;
 
 /// An image decoded to linear RGB, row 0 at the top.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct ImageData {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Vec3>,
+}
+
+/// The pixels print as their count and digest.
+impl std::fmt::Debug for ImageData {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ImageData")
+            .field("width", &self.width)
+            .field("height", &self.height)
+            .field("pixels", &super::digest::summary(&self.pixels))
+            .finish()
+    }
 }
 
 /// Why an image could not be loaded.

@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 
 /// An indexed triangle mesh. `normals` and `uvs` are either empty or as long
 /// as `positions`, indexed by the same triangle indices.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Default, PartialEq)]
 pub struct MeshData {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
@@ -19,6 +19,21 @@ pub struct MeshData {
     /// The materials the file itself asks for (from its MTL), one per slot;
     /// the scene maps each slot to a scene material unless it overrides them.
     pub materials: Vec<MeshMaterial>,
+}
+
+/// The arrays print as their lengths and digests.
+impl std::fmt::Debug for MeshData {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use super::digest::summary;
+        f.debug_struct("MeshData")
+            .field("positions", &summary(&self.positions))
+            .field("normals", &summary(&self.normals))
+            .field("uvs", &summary(&self.uvs))
+            .field("triangles", &summary(&self.triangles))
+            .field("triangle_material", &summary(&self.triangle_material))
+            .field("materials", &self.materials)
+            .finish()
+    }
 }
 
 /// A material named by a mesh file, already mapped to an rtlang material

@@ -8,6 +8,7 @@
 
 pub mod camera;
 pub mod curve;
+pub mod digest;
 pub mod image;
 pub mod material;
 pub mod mesh;
