@@ -99,8 +99,13 @@ impl RevolutionSurface {
         }
         let t_min = t_min as f64;
         let mut best: Option<(f64, f64)> = None;
-        let mut stack = vec![0usize];
-        while let Some(i) = stack.pop() {
+        // The tree is balanced, so its depth is log2 of the piece count and
+        // never near the stack's 64 entries.
+        let mut stack = [0usize; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let i = stack[top];
             let limit = best.map_or(t_max as f64, |(_, t)| t);
             let node = &self.shells.nodes[i];
             let spans = node.bounds().intervals(&axis_ray, t_min, limit);
@@ -119,21 +124,22 @@ impl RevolutionSurface {
                     }
                 }
                 Node::Inner { right, .. } => {
-                    stack.push(right as usize);
-                    stack.push(i + 1);
+                    stack[top] = right as usize;
+                    stack[top + 1] = i + 1;
+                    top += 2;
                 }
             }
         }
         best.map(|(s, t)| self.hit_at(&axis_ray, s, t))
     }
 
-    /// The nearest root in one piece's `[lo, hi]`. A piece the crossing
-    /// polynomial proves free is skipped; otherwise Newton from the entry,
+    /// The nearest root in one piece's `[lo, hi]`: Newton from the entry,
     /// the middle and the exit of the span. If none converges in the span,
-    /// the fallback settles it — unless the polynomial says the piece holds
-    /// exactly one crossing and Newton found it outside the span (a ray
-    /// leaving the surface finds the point it left). What the fallback
-    /// cannot prove is counted.
+    /// the crossing polynomial is asked: a piece it proves free holds no
+    /// root, and neither does one with exactly one crossing that Newton
+    /// found outside the span (a ray leaving the surface finds the point it
+    /// left). Otherwise the fallback settles it; what the fallback cannot
+    /// prove is counted.
     fn solve_piece(
         &self,
         ray: &AxisRay,
@@ -142,8 +148,7 @@ impl RevolutionSurface {
         hi: f64,
         t_min: f64,
     ) -> Option<(f64, f64)> {
-        let signs = meridian::signs(ray, &piece.points, &self.weights);
-        if lo > hi || signs == Signs::Free {
+        if lo > hi {
             return None;
         }
         let mut window = Window {
@@ -164,8 +169,10 @@ impl RevolutionSurface {
                 outside |= s > piece.s0 && s < piece.s1;
             }
         }
-        if outside && signs == Signs::One {
-            return None;
+        match meridian::signs(ray, &piece.points, &self.weights) {
+            Signs::Free => return None,
+            Signs::One if outside => return None,
+            _ => {}
         }
         window.t0 = lo.max(t_min.next_up());
         match fallback::settle(&self.profile, &self.weights, ray, &piece.points, &window) {
