@@ -2,6 +2,8 @@
 //! goes through parse, evaluate, world build and a tiny render.
 #![no_main]
 
+// Shared with the test suite, which also seeds the generator by number.
+#[allow(dead_code)]
 #[path = "../../tests/support/gen.rs"]
 mod gen;
 #[path = "../../tests/support/pipeline.rs"]
