@@ -5,6 +5,8 @@
 
 use std::time::Duration;
 
+mod support;
+
 use rtlang::geometry::World;
 use rtlang::render::adaptive::{render_for, FIRST_ROUND};
 use rtlang::render::scenes::cornell_box;
@@ -30,15 +32,7 @@ fn the_clamp_caps_every_pixel_and_is_off_by_default() {
 
 #[test]
 fn without_a_noise_target_every_pixel_traces_spp() {
-    let scene = cornell_box(20, 5);
-    let world = World::build(&scene).expect("builds");
-    let out = render(
-        &scene,
-        &world,
-        &RenderOptions::from_settings(&scene.settings),
-        &|_| {},
-    )
-    .expect("renders");
+    let out = support::render::as_set(&cornell_box(20, 5));
     assert_eq!((out.stats.spp_min, out.stats.spp_max), (5, 5));
     assert_eq!(out.stats.samples, 20 * 20 * 5);
 }

@@ -5,8 +5,7 @@
 
 use std::io::Write;
 
-use rtlang::geometry::World;
-use rtlang::render::{render, RenderOptions};
+mod support;
 
 const WIDTH: u32 = 200;
 const HEIGHT: u32 = 100;
@@ -18,15 +17,7 @@ fn column_sums(source: &str) -> Vec<f64> {
     let loaded = rtlang::lang::load_scene(&file.0, &[]).unwrap_or_else(|errors| {
         panic!("scene does not load: {errors:?}");
     });
-    let scene = loaded.scene;
-    let world = World::build(&scene).expect("scene builds");
-    let out = render(
-        &scene,
-        &world,
-        &RenderOptions::from_settings(&scene.settings),
-        &|_| {},
-    )
-    .expect("renders");
+    let out = support::render::as_set(&loaded.scene);
     let _ = std::fs::remove_file(&file.0);
     let mut sums = vec![0.0; WIDTH as usize];
     for (i, p) in out.pixels.iter().enumerate() {

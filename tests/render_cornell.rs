@@ -2,11 +2,11 @@
 //! the left, red on the right, a bright ceiling light, no dropped samples.
 //! Set RTLANG_RENDER_OUT to a .png path to keep the picture for a look.
 
+mod support;
+
 use glam::Vec3;
-use rtlang::geometry::World;
 use rtlang::render::output::write_image;
 use rtlang::render::scenes::cornell_box;
-use rtlang::render::{render, RenderOptions};
 
 #[test]
 fn cornell_box_has_its_walls_on_the_seed_sides() {
@@ -18,15 +18,7 @@ fn cornell_box_has_its_walls_on_the_seed_sides() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(32);
-    let scene = cornell_box(size, spp);
-    let world = World::build(&scene).expect("builds");
-    let out = render(
-        &scene,
-        &world,
-        &RenderOptions::from_settings(&scene.settings),
-        &|_| {},
-    )
-    .expect("renders");
+    let out = support::render::as_set(&cornell_box(size, spp));
     if let Ok(path) = std::env::var("RTLANG_RENDER_OUT") {
         write_image(path.as_ref(), out.width, out.height, &out.pixels).expect("writes");
     }

@@ -108,6 +108,7 @@ fn assert_same_pictures(clean: &Scene, degenerate: &Scene, integrators: &[bool])
         let rmse = compare(&picture(degenerate, 1, nee), &reference)
             .expect("same size")
             .rmse;
+        eprintln!("nee {nee}: RMSE {rmse:.3e} against the clean mesh, seed noise {noise:.3}");
         assert!(
             rmse < 0.1 * noise,
             "nee {nee}: RMSE {rmse} against the clean mesh (seed noise {noise})"

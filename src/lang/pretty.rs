@@ -181,8 +181,9 @@ impl Printer {
         }
     }
 
-    /// An expression that follows another one directly: parenthesised unless
-    /// it is a single token, so a leading `-` cannot join the previous one.
+    /// An expression that follows another one directly, or sits where only
+    /// a primary may: parenthesised unless it is a single token, so a
+    /// leading `-` cannot join the previous one.
     fn atom(&mut self, e: &Expr) {
         if matches!(
             e.kind,
@@ -216,7 +217,7 @@ impl Printer {
                     "revolve "
                 };
                 self.out.push_str(kw);
-                self.primary(e);
+                self.atom(e);
             }
             ObjectKind::Repeat { var, from, to } => {
                 let _ = write!(self.out, "repeat {} in ", var.name);
@@ -226,20 +227,6 @@ impl Printer {
             }
         }
         self.block(&o.body);
-    }
-
-    /// An expression in a position that only takes a primary.
-    fn primary(&mut self, e: &Expr) {
-        if matches!(
-            e.kind,
-            ExprKind::Neg(_) | ExprKind::Not(_) | ExprKind::Binary(..) | ExprKind::If(..)
-        ) {
-            self.out.push('(');
-            self.expr(e, 0);
-            self.out.push(')');
-        } else {
-            self.expr(e, 0);
-        }
     }
 
     /// Prints `e`, parenthesised if its precedence is below `min`.

@@ -3,20 +3,16 @@
 
 #![allow(dead_code)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use rtlang::picture::LinearImage;
 
-pub const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/dist_support/moving.rt");
+#[path = "../support/scratch.rs"]
+mod scratch;
+pub use scratch::folder;
 
-/// An empty folder for one test.
-pub fn folder(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rtlang-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp folder");
-    dir
-}
+pub const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/dist_support/moving.rt");
 
 /// `rtlang ARGS...`.
 pub fn rtlang(args: &[&str]) -> Output {

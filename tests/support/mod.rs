@@ -3,4 +3,5 @@
 
 pub mod gen;
 pub mod pipeline;
+pub mod render;
 pub mod scratch;

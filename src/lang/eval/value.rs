@@ -49,6 +49,18 @@ impl Value {
 pub fn binary(op: crate::lang::ast::BinOp, a: &Value, b: &Value) -> Result<Value, Issue> {
     use crate::lang::ast::BinOp::*;
     use Value::*;
+    let mismatch = |help: &str| {
+        Issue::new(
+            "rtlang::type",
+            format!(
+                "cannot apply `{}` to {} and {}",
+                symbol(op),
+                a.type_name(),
+                b.type_name()
+            ),
+        )
+        .help(help)
+    };
     let r = match (op, a, b) {
         (Lt, Num(x), Num(y)) => Bool(x < y),
         (Le, Num(x), Num(y)) => Bool(x <= y),
@@ -61,16 +73,9 @@ pub fn binary(op: crate::lang::ast::BinOp, a: &Value, b: &Value) -> Result<Value
         (And, Bool(x), Bool(y)) => Bool(*x && *y),
         (Or, Bool(x), Bool(y)) => Bool(*x || *y),
         (Lt | Le | Gt | Ge | Eq | Ne | And | Or, ..) => {
-            return Err(Issue::new(
-                "rtlang::type",
-                format!(
-                    "cannot apply `{}` to {} and {}",
-                    symbol(op),
-                    a.type_name(),
-                    b.type_name()
-                ),
-            )
-            .help("comparisons take two numbers; `and` and `or` take two booleans"))
+            return Err(mismatch(
+                "comparisons take two numbers; `and` and `or` take two booleans",
+            ))
         }
         (_, Num(x), Num(y)) => Num(scalar(op, *x, *y)?),
         (Add, Vec3(x), Vec3(y)) => Vec3(*x + *y),
@@ -84,16 +89,9 @@ pub fn binary(op: crate::lang::ast::BinOp, a: &Value, b: &Value) -> Result<Value
         (Div, Vec3(v), Num(s)) => Vec3(*v / nonzero(*s)?),
         (Div, Vec2(v), Num(s)) => Vec2(*v / nonzero(*s)?),
         _ => {
-            return Err(Issue::new(
-                "rtlang::type",
-                format!(
-                    "cannot apply `{}` to {} and {}",
-                    symbol(op),
-                    a.type_name(),
-                    b.type_name()
-                ),
-            )
-            .help("arithmetic works on numbers, and on vectors with vectors or numbers"))
+            return Err(mismatch(
+                "arithmetic works on numbers, and on vectors with vectors or numbers",
+            ))
         }
     };
     Ok(r)
