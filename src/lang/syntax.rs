@@ -10,13 +10,11 @@ use rayon::prelude::*;
 
 use super::ast::*;
 use super::diagnostics::Diagnostic;
-use super::scan;
+use super::scan::{self, MAX_EXPR_DEPTH};
 
 #[derive(pest_derive::Parser)]
 #[grammar = "grammar/rtlang.pest"]
 struct Grammar;
-
-pub use super::scan::{MAX_EXPR_DEPTH, MAX_NESTING};
 
 static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     PrattParser::new()
