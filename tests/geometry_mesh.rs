@@ -6,7 +6,6 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
-use rtlang::geometry::ray::offset_origin;
 use rtlang::geometry::{Ray, World};
 use rtlang::render::rng::Rng;
 use rtlang::scene::{Material, MaterialId, MeshData, Node, Scene, Shape, Texture};
@@ -88,7 +87,7 @@ fn rays_leaving_a_mesh_far_from_the_origin_do_not_rehit_it() {
         if d.dot(hit.geo_normal) < 0.0 {
             d = -d;
         }
-        let leave = Ray::new(offset_origin(hit.point, hit.geo_normal, d), d, 0.0);
+        let leave = Ray::new(hit.spawn_origin(d), d, 0.0);
         if let Some(h) = world.intersect(&leave, 0.0, f32::INFINITY, &mut rng) {
             panic!("re-hit at t = {} leaving {}", h.t, hit.point);
         }

@@ -69,6 +69,12 @@ impl World {
         self.root.intersect(ray, t_min, t_max, rng)
     }
 
+    /// Whether anything is hit with `t` in `(t_min, t_max)` (a shadow ray).
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> bool {
+        self.root.occluded(ray, t_min, t_max, rng)
+    }
+
     /// The emitters next-event estimation samples.
     pub fn lights(&self) -> &LightList {
         &self.lights

@@ -200,6 +200,28 @@ impl Bvh {
             current = stack[top] as usize;
         }
     }
+
+    /// Whether `hit(slot, t_max)` is true for some leaf primitive whose box
+    /// the ray enters before `t_max`: an any-hit walk for shadow rays that
+    /// stops visiting primitives at the first hit (the rest of the walk only
+    /// drains the stack, every box now failing against a negative `t_max`).
+    #[inline]
+    pub fn traverse_any(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut hit: impl FnMut(usize, f32) -> bool,
+    ) -> bool {
+        let mut found = false;
+        self.traverse(ray, t_max, |slot, t| {
+            if found || !hit(slot, t) {
+                return None;
+            }
+            found = true;
+            Some(-1.0)
+        });
+        found
+    }
 }
 
 fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {

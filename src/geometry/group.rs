@@ -40,6 +40,17 @@ impl Group {
         self.bounded.iter().chain(&self.unbounded)
     }
 
+    /// Whether any instance is hit with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> bool {
+        self.bvh.traverse_any(ray, t_max, |slot, t_max| {
+            self.bounded[slot].occluded(ray, t_min, t_max, rng)
+        }) || self
+            .unbounded
+            .iter()
+            .any(|inst| inst.occluded(ray, t_min, t_max, rng))
+    }
+
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
         let mut best: Option<Hit> = None;

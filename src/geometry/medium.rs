@@ -57,6 +57,8 @@ impl Medium {
                 return Some(Hit {
                     t: t_hit,
                     point: ray.at(t_hit),
+                    // A point in a volume: no surface to leave.
+                    error: Vec3::ZERO,
                     geo_normal: Vec3::X,
                     normal: Vec3::X,
                     uv: Vec2::ZERO,

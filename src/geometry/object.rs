@@ -46,6 +46,7 @@ pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId) -> Hi
     Hit {
         t: h.t,
         point: h.point,
+        error: h.error,
         geo_normal,
         normal,
         uv: h.uv,
@@ -71,6 +72,21 @@ impl Geometry {
         }
     }
 
+    /// Whether anything is hit with `t` in `(t_min, t_max)`: stops at the
+    /// first hit found and builds no [`Hit`].
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> bool {
+        match self {
+            Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
+            Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
+            Geometry::Revolution { surface, .. } => surface.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Group(g) => g.occluded(ray, t_min, t_max, rng),
+            Geometry::Medium(m) => m.intersect(ray, t_min, t_max, rng).is_some(),
+            Geometry::Flipped(inner) => inner.occluded(ray, t_min, t_max, rng),
+        }
+    }
+
     /// The nearest hit with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
@@ -88,6 +104,7 @@ impl Geometry {
                 let h = ShapeHit {
                     t: s.t,
                     point: s.point,
+                    error: s.error,
                     normal: s.normal,
                     uv: s.uv,
                 };

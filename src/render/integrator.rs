@@ -17,15 +17,12 @@ use super::lights::LightList;
 use super::material::interact;
 use super::rng::Rng;
 use super::texture::lookup;
-use crate::geometry::ray::offset_origin;
+use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
 use crate::scene::{Background, Material, Scene};
 
 /// Bounces before Russian roulette may end a path.
 const ROULETTE_AFTER: u32 = 4;
-
-/// Shadow rays stop this fraction short of the light point.
-const SHADOW_SHORTEN: f32 = 1e-4;
 
 /// What one path needs: the scene's data and its geometry.
 pub struct Tracer<'a> {
@@ -139,7 +136,7 @@ impl Tracer<'_> {
                 }
                 throughput /= survive;
             }
-            ray = Ray::new(offset_origin(hit.point, hit.geo_normal, dir), dir, ray.time);
+            ray = Ray::new(hit.spawn_origin(dir), dir, ray.time);
         }
         (radiance, rays)
     }
@@ -169,10 +166,8 @@ impl Tracer<'_> {
         if !(s.pdf > 0.0 && s.pdf.is_finite()) {
             return 0;
         }
-        let origin = offset_origin(hit.point, hit.geo_normal, s.dir);
-        let shadow = Ray::new(origin, s.dir, time);
-        let t_max = s.dist * (1.0 - SHADOW_SHORTEN);
-        if self.world.intersect(&shadow, 0.0, t_max, rng).is_some() {
+        let shadow = spawn_to(hit.surface_point(), s.target, time);
+        if self.world.occluded(&shadow, 0.0, SHADOW_END, rng) {
             return 1;
         }
         let weight = power_heuristic(s.pdf, scatter_pdf);

@@ -16,6 +16,7 @@ use glam::Mat4;
 use glam::{Affine3A, Mat3A, Vec3};
 
 use super::rng::Rng;
+use crate::geometry::ray::{gamma, SurfacePoint};
 use crate::scene::object::RectPlane;
 use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
 
@@ -86,6 +87,9 @@ pub struct LightSample {
     pub emitted: Vec3,
     /// Density of `dir` in solid angle, light choice included.
     pub pdf: f32,
+    /// The light point with its error bound and its normal, the far end of
+    /// the shadow ray ([`crate::geometry::ray::spawn_to`]).
+    pub target: SurfacePoint,
 }
 
 /// Every sampled light, with the cumulative selection weights.
@@ -176,10 +180,17 @@ impl LightList {
         let light = &self.lights[i];
         let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
         let (u1, u2) = (rng.next_f32(), rng.next_f32());
-        let (x, n, pdf) = match light.shape {
+        // Each arm bounds the error of `x` from the light's world-space
+        // data, whose own rounding (the transform applied when the list was
+        // built) is of the same order as the geometry's.
+        let (x, error, n, pdf) = match light.shape {
             LightShape::Sphere { center, radius } => {
                 let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
-                (x, (x - center) / radius, pdf)
+                // Reprojected onto the sphere, as a sphere hit is.
+                let n = (x - center).normalize_or(Vec3::Y);
+                let x = center + n * radius;
+                let error = gamma(8) * (Vec3::splat(radius) + center.abs()) + gamma(2) * x.abs();
+                (x, error, n, pdf)
             }
             LightShape::Parallelogram {
                 corner,
@@ -187,8 +198,10 @@ impl LightList {
                 normal,
             } => {
                 let x = corner + u1 * edges.0 + u2 * edges.1;
+                let error = gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs());
                 (
                     x,
+                    error,
                     normal,
                     area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
                 )
@@ -196,8 +209,10 @@ impl LightList {
             LightShape::Triangle { v, normal } => {
                 let s = u1.sqrt();
                 let x = (1.0 - s) * v[0] + s * (1.0 - u2) * v[1] + s * u2 * v[2];
+                let error = gamma(10) * (v[0].abs() + v[1].abs() + v[2].abs());
                 (
                     x,
+                    error,
                     normal,
                     area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
                 )
@@ -214,6 +229,11 @@ impl LightList {
             dist,
             emitted: light.emit,
             pdf: pdf * select,
+            target: SurfacePoint {
+                point: x,
+                error,
+                normal: n,
+            },
         })
     }
 

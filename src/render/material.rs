@@ -110,6 +110,7 @@ mod tests {
         Hit {
             t: 1.0,
             point: Vec3::ZERO,
+            error: Vec3::ZERO,
             geo_normal: Vec3::Y,
             normal: Vec3::Y,
             uv: glam::Vec2::ZERO,

@@ -15,6 +15,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::{DVec3, Vec2, Vec3};
 
+use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 use crate::scene::Bezier;
 
@@ -35,6 +36,9 @@ const DEFAULT_MAX_ITERATIONS: u32 = 24;
 pub struct SurfaceHit {
     pub t: f32,
     pub point: Vec3,
+    /// Bound of the absolute error of each component of `point`: the
+    /// Newton tolerance plus the rounding to f32.
+    pub error: Vec3,
     /// Unit normal pointing away from the axis side of the profile.
     pub normal: Vec3,
     /// (angle / 2π, curve parameter).
@@ -208,6 +212,7 @@ impl RevolutionSurface {
         SurfaceHit {
             t: t as f32,
             point: p.as_vec3(),
+            error: Vec3::splat(self.tolerance as f32) + gamma(1) * p.as_vec3().abs(),
             normal: normal.as_vec3(),
             uv: uv.as_vec2(),
         }
