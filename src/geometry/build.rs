@@ -9,7 +9,7 @@ use glam::Mat4;
 
 use super::group::Group;
 use super::instance::{is_bounded, Instance, Placement, StaticTransform};
-use super::medium::Medium;
+use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
 use super::primitives::{Primitive, PrimitiveSet};
@@ -18,7 +18,6 @@ use super::shapes::{Cuboid, Plane, Rect, Sphere, Triangle};
 use super::sweep::swept_bounds;
 use super::{Hit, Ray};
 use crate::render::lights::LightList;
-use crate::render::rng::Rng;
 use crate::scene::motion::CompiledMotion;
 use crate::scene::object::RevolutionMode;
 use crate::scene::{MaterialId, Node, ProtoId, Scene, Shape};
@@ -63,16 +62,34 @@ impl World {
         })
     }
 
-    /// The nearest hit with `t` in `(t_min, t_max)`.
+    /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
-        self.root.intersect(ray, t_min, t_max, rng)
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        self.intersect_in_media(ray, t_min, t_max, &mut MediumSegments::default())
     }
 
-    /// Whether anything is hit with `t` in `(t_min, t_max)` (a shadow ray).
+    /// The nearest surface hit with `t` in `(t_min, t_max)`; `media` is
+    /// cleared and receives the stretches of the ray inside media up to
+    /// `t_max` (the caller clips them at the hit).
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> bool {
-        self.root.occluded(ray, t_min, t_max, rng)
+    pub fn intersect_in_media(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+    ) -> Option<Hit> {
+        media.clear();
+        self.root.intersect(ray, t_min, t_max, media)
+    }
+
+    /// Whether a surface is hit with `t` in `(t_min, t_max)` (a shadow
+    /// ray); `media` is cleared and receives the medium stretches found
+    /// (complete only when nothing is hit).
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+        media.clear();
+        self.root.occluded(ray, t_min, t_max, media)
     }
 
     /// The emitters next-event estimation samples.

@@ -3,14 +3,18 @@
 
 use glam::Vec3;
 
-use super::rng::Rng;
 use crate::geometry::Ray;
+use crate::sampling::warp::uniform_disk;
+use crate::sampling::Sampler;
 use crate::scene::Camera;
 
 /// The camera with its frame precomputed for an image size.
 #[derive(Clone, Debug)]
 pub struct CameraRays {
     origin: Vec3,
+    /// The lower left corner of the focus plane's window, relative to
+    /// `origin`: ray directions are built from camera-relative vectors, so
+    /// they keep their precision however far the camera is from the origin.
     lower_left: Vec3,
     horizontal: Vec3,
     vertical: Vec3,
@@ -37,7 +41,7 @@ impl CameraRays {
         let vertical = focus * viewport_h * v;
         CameraRays {
             origin: cam.from,
-            lower_left: cam.from - horizontal / 2.0 - vertical / 2.0 - focus * w,
+            lower_left: -horizontal / 2.0 - vertical / 2.0 - focus * w,
             horizontal,
             vertical,
             u,
@@ -50,15 +54,16 @@ impl CameraRays {
 
     /// A ray through pixel `(x, y)` (row 0 at the top), jittered within it.
     #[inline]
-    pub fn ray(&self, x: u32, y: u32, rng: &mut Rng) -> Ray {
-        let s = (x as f32 + rng.next_f32()) / self.size.0;
-        let t = 1.0 - (y as f32 + rng.next_f32()) / self.size.1;
-        let (dx, dy) = rng.in_unit_disk();
-        let offset = self.lens_radius * (dx * self.u + dy * self.v);
+    pub fn ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
+        let film = sampler.next_2d();
+        let s = (x as f32 + film.x) / self.size.0;
+        let t = 1.0 - (y as f32 + film.y) / self.size.1;
+        let lens = uniform_disk(sampler.next_2d());
+        let offset = self.lens_radius * (lens.x * self.u + lens.y * self.v);
         let origin = self.origin + offset;
-        let target = self.lower_left + s * self.horizontal + t * self.vertical;
-        let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * rng.next_f32();
-        Ray::new(origin, (target - origin).normalize(), time)
+        let to_target = self.lower_left + s * self.horizontal + t * self.vertical - offset;
+        let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * sampler.next_1d();
+        Ray::new(origin, to_target.normalize(), time)
     }
 }
 
@@ -75,7 +80,7 @@ mod tests {
             ..Camera::default()
         };
         let rays = CameraRays::new(&cam, 101, 101);
-        let mut rng = Rng::for_sample(0, 50, 50, 0);
+        let mut rng = Sampler::for_sample(0, 50, 50, 0);
         for _ in 0..100 {
             let r = rays.ray(50, 50, &mut rng);
             assert!(r.dir.dot(Vec3::Z) > 0.9999);

@@ -13,10 +13,10 @@ use std::f32::consts::TAU;
 
 #[cfg(test)]
 use glam::Mat4;
-use glam::{Affine3A, Mat3A, Vec3};
+use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
-use super::rng::Rng;
 use crate::geometry::ray::{gamma, SurfacePoint};
+use crate::sampling::Sampler;
 use crate::scene::object::RectPlane;
 use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
 
@@ -173,13 +173,13 @@ impl LightList {
 
     /// Samples a light point seen from `p`; `None` if there is no light or
     /// the chosen point emits nothing towards `p`.
-    pub fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<LightSample> {
+    pub fn sample(&self, p: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
         let last = self.lights.len().checked_sub(1)?;
-        let u = rng.next_f32() * self.total;
+        let u = sampler.next_1d() * self.total;
         let i = self.cdf.partition_point(|&c| c <= u).min(last);
         let light = &self.lights[i];
         let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
-        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        let Vec2 { x: u1, y: u2 } = sampler.next_2d();
         // Each arm bounds the error of `x` from the light's world-space
         // data, whose own rounding (the transform applied when the list was
         // built) is of the same order as the geometry's.
@@ -576,7 +576,7 @@ mod tests {
         p: Vec3,
         normal_at: impl Fn(Vec3) -> Vec3,
     ) -> f64 {
-        let mut rng = Rng::for_sample(1, 0, 0, 0);
+        let mut rng = Sampler::for_sample(1, 0, 0, 0);
         let n = 40_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
@@ -647,7 +647,7 @@ mod tests {
             two_sided: false,
         };
         let list = LightList::build(&one_sided);
-        let mut rng = Rng::for_sample(2, 0, 0, 0);
+        let mut rng = Sampler::for_sample(2, 0, 0, 0);
         assert!(list.sample(Vec3::ZERO, &mut rng).is_none());
         assert!(list.sample(Vec3::new(0.0, 0.0, 2.0), &mut rng).is_some());
         let mut moving = scene;

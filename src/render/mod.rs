@@ -16,7 +16,6 @@ pub mod options;
 pub mod output;
 pub mod piece;
 pub mod progress;
-pub mod rng;
 pub mod scenes;
 pub mod texture;
 pub mod tiles;

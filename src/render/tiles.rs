@@ -17,8 +17,8 @@ use super::camera::CameraRays;
 use super::film::Film;
 use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
-use super::rng::Rng;
 use crate::geometry::World;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// Tile edge in pixels.
@@ -297,9 +297,9 @@ impl Job<'_> {
                         }
                     }
                     traced += 1;
-                    let mut rng = Rng::for_sample(self.seed, x, y, self.first + s);
-                    let ray = self.camera.ray(x, y, &mut rng);
-                    let (mut l, rays) = self.tracer.radiance(ray, &mut rng);
+                    let mut sampler = Sampler::for_sample(self.seed, x, y, self.first + s);
+                    let ray = self.camera.ray(x, y, &mut sampler);
+                    let (mut l, rays) = self.tracer.radiance(ray, &mut sampler);
                     if let Some(c) = self.clamp {
                         l = clamp_radiance(l, c);
                     }

@@ -60,10 +60,12 @@ impl Sphere {
         };
         // Reproject the point onto the sphere: its error is then a few
         // roundings of the radius and of the final sum (pbrt-v4).
+        // A negative radius turns the normal inwards (a hollow bubble).
         let rel = ray.origin + t * d - self.center;
-        let normal = (rel / rel.length()).normalize_or(Vec3::Y);
-        let rel = normal * r;
+        let outward = (rel / rel.length()).normalize_or(Vec3::Y);
+        let rel = outward * r.abs();
         let point = self.center + rel;
+        let normal = outward * r.signum();
         Some(ShapeHit {
             t: t / len,
             point,

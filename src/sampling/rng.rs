@@ -2,7 +2,9 @@
 //! (scene seed, pixel x, pixel y, sample index) and nothing else, so a pixel's
 //! samples are the same whatever thread or tile renders them.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+
+use super::warp;
 
 /// PCG-XSH-RR 32-bit output, 64-bit state.
 #[derive(Clone, Debug)]
@@ -53,25 +55,14 @@ impl Rng {
     /// Uniform on the unit sphere.
     #[inline]
     pub fn unit_vector(&mut self) -> Vec3 {
-        let z = 1.0 - 2.0 * self.next_f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f32::consts::TAU * self.next_f32();
-        let (s, c) = phi.sin_cos();
-        Vec3::new(r * c, r * s, z)
+        let u = Vec2::new(self.next_f32(), self.next_f32());
+        warp::uniform_sphere(u)
     }
 
     /// Uniform in the unit ball.
     #[inline]
     pub fn in_unit_ball(&mut self) -> Vec3 {
         self.unit_vector() * self.next_f32().cbrt()
-    }
-
-    /// Uniform in the unit disk (z = 0).
-    #[inline]
-    pub fn in_unit_disk(&mut self) -> (f32, f32) {
-        let r = self.next_f32().sqrt();
-        let (s, c) = (std::f32::consts::TAU * self.next_f32()).sin_cos();
-        (r * c, r * s)
     }
 }
 
