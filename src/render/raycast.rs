@@ -1,0 +1,132 @@
+//! Intersection-only ray throughput on the calling thread, for comparison
+//! with other ray tracers (`benches/peers/`): the camera rays of a render
+//! (one per sample, nearest hit, no shading) and random rays aimed through
+//! the scene's box. Rays come from the per-sample random streams, so a run
+//! is repeatable.
+
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+
+use super::camera::CameraRays;
+use super::rng::Rng;
+use super::RenderOptions;
+use crate::geometry::{Aabb, Ray, World};
+use crate::scene::Scene;
+
+/// How many rays were traced, how many hit, and the wall time they took.
+#[derive(Clone, Copy, Debug)]
+pub struct RayRate {
+    pub rays: u64,
+    pub hits: u64,
+    pub wall: Duration,
+}
+
+impl RayRate {
+    /// Rays per second.
+    pub fn per_second(&self) -> f64 {
+        self.rays as f64 / self.wall.as_secs_f64().max(1e-9)
+    }
+
+    /// The fraction of rays that hit something.
+    pub fn hit_fraction(&self) -> f64 {
+        self.hits as f64 / self.rays.max(1) as f64
+    }
+}
+
+/// Traces `options.spp` camera rays per pixel of the full frame, nearest
+/// hit only. Ray generation is timed with the tracing, as in a render.
+pub fn camera_rays(scene: &Scene, world: &World, options: &RenderOptions) -> RayRate {
+    let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    let start = Instant::now();
+    let (mut rays, mut hits) = (0u64, 0u64);
+    for y in 0..options.height {
+        for x in 0..options.width {
+            for s in 0..options.spp {
+                let mut rng = Rng::for_sample(options.seed, x, y, s);
+                let ray = camera.ray(x, y, &mut rng);
+                rays += 1;
+                hits += u64::from(
+                    world
+                        .intersect(&ray, 0.0, f32::INFINITY, &mut rng)
+                        .is_some(),
+                );
+            }
+        }
+    }
+    RayRate {
+        rays,
+        hits,
+        wall: start.elapsed(),
+    }
+}
+
+/// Traces `count` rays, each from a uniform point on the sphere around
+/// `bounds` (radius: its half diagonal) towards a uniform point inside it,
+/// nearest hit only. `None` when the box is empty or unbounded.
+pub fn random_rays(world: &World, bounds: Aabb, count: u32, seed: u64) -> Option<RayRate> {
+    let extent = bounds.extent();
+    if bounds.is_empty() || !extent.is_finite() {
+        return None;
+    }
+    let centre = bounds.centroid();
+    let radius = 0.5 * extent.length();
+    let start = Instant::now();
+    let mut hits = 0u64;
+    for i in 0..count {
+        let mut rng = Rng::for_sample(seed, i, 0, 0);
+        let origin = centre + radius * rng.unit_vector();
+        let target =
+            bounds.min + extent * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let ray = Ray::new(origin, (target - origin).normalize_or(Vec3::Z), 0.0);
+        hits += u64::from(
+            world
+                .intersect(&ray, 0.0, f32::INFINITY, &mut rng)
+                .is_some(),
+        );
+    }
+    Some(RayRate {
+        rays: u64::from(count),
+        hits,
+        wall: start.elapsed(),
+    })
+}
+
+impl std::fmt::Display for RayRate {
+    /// `N in S s, R M rays/s, H% hit` (what `benches/peers/` parses).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} in {:.3} s, {:.3} M rays/s, {:.1}% hit",
+            self.rays,
+            self.wall.as_secs_f64(),
+            self.per_second() / 1e6,
+            100.0 * self.hit_fraction()
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::scenes::cornell_box;
+
+    #[test]
+    fn camera_rays_inside_a_closed_box_all_hit_and_random_rays_count() {
+        let scene = cornell_box(8, 1);
+        let world = World::build(&scene).expect("builds");
+        let mut options = RenderOptions::from_settings(&scene.settings);
+        options.spp = 2;
+        let cam = camera_rays(&scene, &world, &options);
+        assert_eq!(cam.rays, u64::from(options.width * options.height * 2));
+        // The camera looks into the open side of the box; only the frame's
+        // corners (outside the 555-unit box at 40 degrees from 800 away) miss.
+        assert!(cam.hit_fraction() > 0.9 && cam.hits < cam.rays, "{cam:?}");
+        let random = random_rays(&world, world.bounds(), 1000, 1).expect("bounded");
+        assert_eq!(random.rays, 1000);
+        // A ray aimed at a point inside the box crosses a wall, or enters by
+        // the open side and meets a wall beyond its target.
+        assert!(random.hit_fraction() > 0.99, "{random:?}");
+        assert!(random_rays(&world, Aabb::EMPTY, 10, 1).is_none());
+    }
+}
