@@ -147,10 +147,13 @@ mod tests {
     fn agrees(p: &Primitive, m: &Mat4) {
         let baked = transformed(p, m).expect("survives");
         let inv = m.inverse();
-        let mut hits = 0;
+        let (mut hits, mut flips) = (0, 0);
         for i in 0..400 {
             let a = i as f32 * 0.618_034;
-            let target = m.transform_point3(Vec3::new(a.sin(), (1.7 * a).cos(), (2.3 * a).sin()));
+            // Aim at a point of the shape's own box, so most rays hit.
+            let b = p.bounds();
+            let f = 0.5 + 0.3 * Vec3::new(a.sin(), (1.7 * a).cos(), (2.3 * a).sin());
+            let target = m.transform_point3(b.min + f * b.extent());
             let origin = target + 6.0 * Vec3::new((3.1 * a).cos(), (0.7 * a).sin(), a.cos());
             let ray = Ray::new(origin, (target - origin).normalize(), 0.0);
             let local = Ray::new(
@@ -162,7 +165,11 @@ mod tests {
                 p.intersect(&local, 1e-3, f32::INFINITY),
                 baked.intersect(&ray, 1e-3, f32::INFINITY),
             );
-            assert_eq!(want.is_some(), got.is_some(), "{p:?} ray {i}");
+            // Grazing rays may flip between hit and miss by rounding.
+            if want.is_some() != got.is_some() {
+                flips += 1;
+                continue;
+            }
             let (Some(w), Some(g)) = (want, got) else {
                 continue;
             };
@@ -174,11 +181,24 @@ mod tests {
                 w.t,
                 g.t
             );
-            assert!(m.transform_point3(w.point).distance(g.point) < 1e-4);
+            let gap = m.transform_point3(w.point).distance(g.point);
+            assert!(
+                gap < 1e-4 * (w.t + g.point.length()),
+                "{p:?}: points {gap} apart"
+            );
             assert!(normal.dot(g.normal.normalize()) > 0.9999, "{p:?}: normal");
-            assert!(w.uv.distance(g.uv) < 1e-4, "{p:?}: uv {} vs {}", w.uv, g.uv);
+            // u wraps at a sphere's seam and means nothing at its poles.
+            let du = (w.uv.x - g.uv.x).abs();
+            let pole = w.uv.y < 1e-2 || w.uv.y > 1.0 - 1e-2;
+            assert!(
+                pole || ((w.uv.y - g.uv.y).abs() < 1e-4 && du.min(1.0 - du) < 1e-4),
+                "{p:?}: uv {} vs {}",
+                w.uv,
+                g.uv
+            );
         }
-        assert!(hits > 20, "{p:?}: only {hits} hits");
+        assert!(hits > 100, "{p:?}: only {hits} hits");
+        assert!(flips <= 2, "{p:?}: {flips} rays hit one and miss the other");
     }
 
     #[test]
