@@ -1,9 +1,10 @@
 //! A bounding volume hierarchy built with the binned surface-area heuristic
 //! as a binary tree, then collapsed into a 4-wide tree whose nodes hold their
 //! children's boxes as lanes (structure of arrays), so one node visit tests
-//! four boxes at once. It is traversed iteratively with a fixed-size stack,
-//! nearest child first, skipping entries farther than the closest hit so far,
-//! without allocation.
+//! four boxes at once. It is traversed iteratively with a fixed-size stack of
+//! inner nodes, nearest child first, leaves visited as soon as their box is
+//! hit, entries farther than the closest hit so far skipped, without
+//! allocation.
 //!
 //! The four-lane box test is portable code over `[f32; 4]` that the compiler
 //! turns into SSE instructions (min/max written as the comparisons `maxps` and
@@ -156,7 +157,7 @@ impl BvhNode {
     }
 }
 
-/// A stack entry: a child word and the ray's entry distance into its box.
+/// A stack entry: a node index and the ray's entry distance into its box.
 #[inline(always)]
 fn pack(child: u32, near: f32) -> u64 {
     (u64::from(near.to_bits()) << 32) | u64::from(child)
@@ -272,11 +273,31 @@ impl Bvh {
         let mut top = 1usize;
         while top > 0 {
             top -= 1;
-            let (word, near) = unpack(stack[top]);
+            let (index, near) = unpack(stack[top]);
             if near > t_max {
                 continue;
             }
-            if word & LEAF != 0 {
+            let node = &self.nodes[index as usize];
+            let dist = node.hit(&box_ray, t_max);
+            // The children hit, farthest first.
+            let mut order = [(0.0f32, 0u32); WIDTH];
+            let mut n = 0;
+            for (&d, &child) in dist.iter().zip(&node.child) {
+                if d < f32::INFINITY {
+                    let mut i = n;
+                    while i > 0 && order[i - 1].0 < d {
+                        order[i] = order[i - 1];
+                        i -= 1;
+                    }
+                    order[i] = (d, child);
+                    n += 1;
+                }
+            }
+            // Leaves at once, nearest first, so their hits cull what follows.
+            for &(d, word) in order[..n].iter().rev() {
+                if word & LEAF == 0 || d > t_max {
+                    continue;
+                }
                 let first = (word & SLOT_MASK) as usize;
                 let count = ((word >> 29) & 3) as usize + 1;
                 for slot in first..first + count {
@@ -287,27 +308,12 @@ impl Bvh {
                         }
                     }
                 }
-                continue;
             }
-            let node = &self.nodes[word as usize];
-            let dist = node.hit(&box_ray, t_max);
-            // Push the children hit, farthest first, so the nearest pops next.
-            let mut order = [(0.0f32, 0u32); WIDTH];
-            let mut n = 0;
-            for lane in 0..WIDTH {
-                if dist[lane] < f32::INFINITY {
-                    let mut i = n;
-                    while i > 0 && order[i - 1].0 < dist[lane] {
-                        order[i] = order[i - 1];
-                        i -= 1;
-                    }
-                    order[i] = (dist[lane], node.child[lane]);
-                    n += 1;
-                }
-            }
-            for &(d, child) in &order[..n] {
-                if top < STACK {
-                    stack[top] = pack(child, d);
+            // Inner children onto the stack, farthest first, so the nearest
+            // pops next.
+            for &(d, word) in &order[..n] {
+                if word & LEAF == 0 && d <= t_max && top < STACK {
+                    stack[top] = pack(word, d);
                     top += 1;
                 }
             }
