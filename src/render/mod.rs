@@ -16,6 +16,7 @@ pub mod options;
 pub mod output;
 pub mod piece;
 pub mod progress;
+pub mod raycast;
 pub mod scenes;
 pub mod texture;
 pub mod tiles;
