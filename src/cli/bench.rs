@@ -48,7 +48,7 @@ pub struct BenchArgs {
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
-    eprintln!("error: {message}");
+    errln!("error: {message}");
     ExitCode::FAILURE
 }
 
@@ -58,7 +58,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         Ok(l) => l,
         Err(reports) => {
             for r in reports {
-                eprintln!("{r:?}");
+                errln!("{r:?}");
             }
             return ExitCode::FAILURE;
         }
@@ -88,7 +88,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
 }
 
 fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions) -> ExitCode {
-    println!(
+    outln!(
         "{}×{}, {} spp, depth {}, light sampling {}\n\n| threads | time (s) | M samples/s | M rays/s |\n|---:|---:|---:|---:|",
         options.width, options.height, options.spp, options.max_depth, options.light_sampling
     );
@@ -98,7 +98,7 @@ fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions)
             Ok(t) => t,
             Err(e) => return fail(e),
         };
-        println!(
+        outln!(
             "| {} | {:.2} | {:.3} | {:.3} |",
             threads,
             t.wall.as_secs_f64(),
@@ -107,7 +107,7 @@ fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions)
         );
         rates.push(t.samples_per_second);
     }
-    println!("\nscaling 1 → 2 threads: {:.2}×", rates[1] / rates[0]);
+    outln!("\nscaling 1 → 2 threads: {:.2}×", rates[1] / rates[0]);
     ExitCode::SUCCESS
 }
 
@@ -172,7 +172,7 @@ fn convergence(
     {
         return fail(e);
     }
-    print!("{table}");
-    eprintln!("wrote {} and {}", md.display(), png.display());
+    out!("{table}");
+    errln!("wrote {} and {}", md.display(), png.display());
     ExitCode::SUCCESS
 }

@@ -31,6 +31,11 @@ pub enum ObjError {
     #[error("`{path}` has a vertex that is not a finite number")]
     NonFinite { path: String },
     #[error(
+        "`{path}` has a vertex coordinate {value:e}, beyond the limit ±{:e}",
+        super::object::MAX_COORDINATE
+    )]
+    TooFar { path: String, value: f32 },
+    #[error(
         "`{path}` has {count} materials; a mesh may have at most {}",
         MAX_MATERIALS
     )]
@@ -122,6 +127,15 @@ fn merge_models(
             let v = Vec3::new(p[0], p[1], p[2]);
             if !v.is_finite() {
                 return Err(ObjError::NonFinite { path: shown.into() });
+            }
+            if v.abs().max_element() > super::object::MAX_COORDINATE {
+                return Err(ObjError::TooFar {
+                    path: shown.into(),
+                    value: *p
+                        .iter()
+                        .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+                        .unwrap_or(&0.0),
+                });
             }
             out.positions.push(v);
         }
