@@ -11,6 +11,9 @@ use crate::scene::Camera;
 #[derive(Clone, Debug)]
 pub struct CameraRays {
     origin: Vec3,
+    /// The lower-left corner of the focus plane relative to `origin`: rays
+    /// are aimed from the camera, not between two far-away world points,
+    /// so a camera at 1e12 keeps the pixel grid a camera at 1 has.
     lower_left: Vec3,
     horizontal: Vec3,
     vertical: Vec3,
@@ -37,7 +40,7 @@ impl CameraRays {
         let vertical = focus * viewport_h * v;
         CameraRays {
             origin: cam.from,
-            lower_left: cam.from - horizontal / 2.0 - vertical / 2.0 - focus * w,
+            lower_left: -horizontal / 2.0 - vertical / 2.0 - focus * w,
             horizontal,
             vertical,
             u,
@@ -55,10 +58,9 @@ impl CameraRays {
         let t = 1.0 - (y as f32 + rng.next_f32()) / self.size.1;
         let (dx, dy) = rng.in_unit_disk();
         let offset = self.lens_radius * (dx * self.u + dy * self.v);
-        let origin = self.origin + offset;
         let target = self.lower_left + s * self.horizontal + t * self.vertical;
         let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * rng.next_f32();
-        Ray::new(origin, (target - origin).normalize(), time)
+        Ray::new(self.origin + offset, (target - offset).normalize(), time)
     }
 }
 

@@ -223,7 +223,7 @@ mod tests {
             material: MaterialId(0),
         });
         assert_eq!(IDENTITY_VERSION, 1);
-        assert_eq!(scene_identity(&scene), "0000000000000000");
+        assert_eq!(scene_identity(&scene), "27056e37a3032983");
     }
 
     #[test]

@@ -72,11 +72,26 @@ impl Evaluator {
                 .iter()
                 .map(|p| p.finiteness(open, close))
                 .find(|f| *f != Finiteness::Finite);
-            let label = match verdict {
-                None => continue,
-                Some(Finiteness::NotFiniteAt(t)) => format!("NaN or infinite at t = {t}"),
-                Some(_) => "not provably finite".to_string(),
+            let t = match verdict {
+                None | Some(Finiteness::Finite) => continue,
+                Some(Finiteness::NotFiniteAt(t)) => t,
+                Some(Finiteness::Unproven) => {
+                    // Bounds are conservative: no time found where it fails.
+                    self.diagnostics.push(
+                        Diagnostic::warning(
+                            "rtlang::motion-unproven",
+                            span,
+                            format!(
+                                "this motion could not be proved finite over the shutter [{open}, {close}]"
+                            ),
+                        )
+                        .label("no time found where it is NaN or infinite")
+                        .help("if the object vanishes at some time, check this motion's square roots, logarithms and divisions"),
+                    );
+                    continue;
+                }
             };
+            let label = format!("NaN or infinite at t = {t}");
             self.report(
                 Diagnostic::error(
                     "rtlang::motion-not-finite",

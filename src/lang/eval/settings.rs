@@ -182,7 +182,7 @@ impl Evaluator {
             return;
         };
         // Relative to where the camera is: at 1e8 a step of 1 is lost in f32.
-        let (from32, at32) = (from.as_vec3(), at.as_vec3());
+        let (from32, at32) = (from.as_vec3().as_dvec3(), at.as_vec3().as_dvec3());
         let size = from32.length().max(at32.length());
         let gap = (at32 - from32).length();
         if gap.is_nan() || gap <= 1e-6 * size {
