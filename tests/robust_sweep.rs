@@ -92,7 +92,7 @@ fn step_agrees(s: f64, t: f64, may_refuse: bool) -> Result<(), String> {
     let noise = compare(&path, &path2).map_err(|e| e.to_string())?.rmse;
     let gap = compare(&nee, &path).map_err(|e| e.to_string())?.rmse;
     let dropped = d1 + d2 + d3;
-    if dropped > 0 || !(gap <= 2.0 * noise) {
+    if dropped > 0 || gap.is_nan() || gap > 2.0 * noise {
         return Err(format!(
             "s {s:e} t {t:e}: NEE vs path RMSE {gap:.4}, path noise {noise:.4}, {dropped} dropped"
         ));
