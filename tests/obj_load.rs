@@ -286,7 +286,11 @@ fn broken_files_are_errors() {
     ));
     assert!(matches!(
         load_obj(&fixture("bad_index.obj")),
-        Err(ObjError::Parse { .. })
+        Err(ObjError::At {
+            line: 4,
+            column: 7,
+            ..
+        })
     ));
     assert!(matches!(
         load_obj(&fixture("does_not_exist.obj")),

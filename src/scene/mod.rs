@@ -14,6 +14,7 @@ pub mod material;
 pub mod mesh;
 pub mod motion;
 pub mod obj;
+pub mod obj_lines;
 pub mod object;
 pub mod settings;
 pub mod texture;

@@ -26,6 +26,14 @@ pub enum ObjError {
     Io { path: String, message: String },
     #[error("cannot parse `{path}`: {message}")]
     Parse { path: String, message: String },
+    #[error("{path}:{line}:{column}: {message}\n  {line} | {text}")]
+    At {
+        path: String,
+        line: usize,
+        column: usize,
+        text: String,
+        message: String,
+    },
     #[error("`{path}` has no faces")]
     Empty { path: String },
     #[error("`{path}` has a vertex that is not a finite number")]
@@ -53,6 +61,19 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
         return Err(ObjError::Io {
             path: shown,
             message: e.to_string(),
+        });
+    }
+    let bytes = std::fs::read(path).map_err(|e| ObjError::Io {
+        path: shown.clone(),
+        message: e.to_string(),
+    })?;
+    if let Some(e) = super::obj_lines::check(&bytes) {
+        return Err(ObjError::At {
+            path: shown,
+            line: e.line,
+            column: e.column,
+            text: e.text,
+            message: e.message,
         });
     }
     let options = tobj::LoadOptions {
