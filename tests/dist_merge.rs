@@ -92,3 +92,23 @@ fn pieces_that_do_not_belong_together_are_refused() {
     std::fs::remove_file(dir.join("t2.exr.json")).expect("removes");
     fails(&[&t1, &t2], &[], "sidecar");
 }
+
+#[test]
+fn only_pieces_and_requested_renders_get_a_sidecar() {
+    let dir = folder("sidecars");
+    let sidecar = |name: &str| dir.join(format!("{name}.json")).exists();
+    render(&dir.join("plain.png"), &["--spp", "1"]);
+    assert!(
+        !sidecar("plain.png"),
+        "a whole single render leaves only its image"
+    );
+    render(&dir.join("asked.exr"), &["--spp", "1", "--sidecar"]);
+    render(&dir.join("tile.exr"), &["--spp", "1", "--tile", "1/2"]);
+    render(&dir.join("crop.exr"), &["--spp", "1", "--crop", "0,4,0,4"]);
+    render(&dir.join("pass.exr"), &["--spp", "1", "--pass", "0"]);
+    let ck = dir.join("ck.bin");
+    render(&dir.join("ck.exr"), &["--spp", "1", "--checkpoint", s(&ck)]);
+    for name in ["asked.exr", "tile.exr", "crop.exr", "pass.exr", "ck.exr"] {
+        assert!(sidecar(name), "{name} has no sidecar");
+    }
+}

@@ -53,7 +53,7 @@ pub struct BenchArgs {
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
-    eprintln!("error: {message}");
+    errln!("error: {message}");
     ExitCode::FAILURE
 }
 
@@ -63,7 +63,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         Ok(l) => l,
         Err(reports) => {
             for r in reports {
-                eprintln!("{r:?}");
+                errln!("{r:?}");
             }
             return ExitCode::FAILURE;
         }
@@ -95,7 +95,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
 }
 
 fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions) -> ExitCode {
-    println!(
+    outln!(
         "{}×{}, {} spp, depth {}, light sampling {}\n\n| threads | time (s) | M samples/s | M rays/s |\n|---:|---:|---:|---:|",
         options.width, options.height, options.spp, options.max_depth, options.light_sampling
     );
@@ -105,7 +105,7 @@ fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions)
             Ok(t) => t,
             Err(e) => return fail(e),
         };
-        println!(
+        outln!(
             "| {} | {:.2} | {:.3} | {:.3} |",
             threads,
             t.wall.as_secs_f64(),
@@ -114,7 +114,7 @@ fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions)
         );
         rates.push(t.samples_per_second);
     }
-    println!("\nscaling 1 → 2 threads: {:.2}×", rates[1] / rates[0]);
+    outln!("\nscaling 1 → 2 threads: {:.2}×", rates[1] / rates[0]);
     ExitCode::SUCCESS
 }
 
@@ -192,7 +192,7 @@ fn convergence(
     {
         return fail(e);
     }
-    print!("{table}");
-    eprintln!("wrote {} and {}", md.display(), png.display());
+    out!("{table}");
+    errln!("wrote {} and {}", md.display(), png.display());
     ExitCode::SUCCESS
 }

@@ -1,7 +1,7 @@
 //! `rtlang check FILE...`: every diagnostic of every file, as miette reports
 //! or as JSON lines; exit 0 when clean, 1 on errors.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -44,8 +44,6 @@ pub fn run(args: CheckArgs) -> ExitCode {
         ..Options::default()
     };
     let mut errors = false;
-    let stdout = std::io::stdout();
-    let mut out = stdout.lock();
     let color = std::io::stderr().is_terminal();
     for file in &args.files {
         let outcome = lang::check(file, &options);
@@ -53,14 +51,14 @@ pub fn run(args: CheckArgs) -> ExitCode {
         for d in &outcome.diagnostics {
             match args.format {
                 Format::Json => {
-                    let _ = writeln!(out, "{}", d.to_json(&outcome.sources));
+                    outln!("{}", d.to_json(&outcome.sources));
                 }
                 Format::Human => {
                     let report = d.to_report(&outcome.sources);
                     if color {
-                        eprintln!("{report:?}");
+                        errln!("{report:?}");
                     } else {
-                        eprint!("{}", lang::diagnostics::render_plain(&report, 100));
+                        err!("{}", lang::diagnostics::render_plain(&report, 100));
                     }
                 }
             }

@@ -34,11 +34,11 @@ pub struct CompareArgs {
 pub fn run(args: &CompareArgs) -> ExitCode {
     match compare(args) {
         Ok(text) => {
-            println!("{text}");
+            outln!("{text}");
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("{:?}", miette::Report::new(e));
+            errln!("{:?}", miette::Report::new(e));
             ExitCode::FAILURE
         }
     }

@@ -52,11 +52,11 @@ enum Asset {
 pub fn run(args: GenArgs) -> ExitCode {
     match generate(args.asset) {
         Ok(message) => {
-            println!("{message}");
+            outln!("{message}");
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("{:?}", miette::Report::new(e));
+            errln!("{:?}", miette::Report::new(e));
             ExitCode::FAILURE
         }
     }

@@ -30,7 +30,7 @@ pub fn run(args: InspectArgs) -> ExitCode {
                 help = "rtlang reads Wavefront OBJ files with an optional MTL beside them",
                 "{e}"
             );
-            eprintln!("{report:?}");
+            errln!("{report:?}");
             return ExitCode::FAILURE;
         }
     };
@@ -54,26 +54,31 @@ pub fn run(args: InspectArgs) -> ExitCode {
                 "materials": materials,
                 "warnings": loaded.warnings,
             });
-            println!("{value}");
+            outln!("{value}");
         }
         Format::Text => {
-            println!("{}", args.mesh.display());
-            println!(
+            outln!("{}", args.mesh.display());
+            outln!(
                 "  {} triangles, {} vertices, normals: {}, uvs: {}",
                 mesh.triangles.len(),
                 mesh.positions.len(),
                 yes_no(!mesh.normals.is_empty()),
                 yes_no(!mesh.uvs.is_empty())
             );
-            println!(
+            outln!(
                 "  bounds ({}, {}, {}) .. ({}, {}, {})",
-                lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+                lo.x,
+                lo.y,
+                lo.z,
+                hi.x,
+                hi.y,
+                hi.z
             );
             for m in &materials {
-                println!("  material {m}");
+                outln!("  material {m}");
             }
             for w in &loaded.warnings {
-                println!("  warning: {w}");
+                outln!("  warning: {w}");
             }
         }
     }

@@ -33,7 +33,7 @@ pub fn run(args: &MergeArgs) -> ExitCode {
     match run_merge(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(report) => {
-            eprintln!("{report:?}");
+            errln!("{report:?}");
             ExitCode::FAILURE
         }
     }
@@ -72,7 +72,7 @@ fn run_merge(args: &MergeArgs) -> Result<(), miette::Report> {
         .info
         .write(&args.output)
         .map_err(|e| miette::miette!("{e}"))?;
-    eprintln!(
+    errln!(
         "merged {} pieces into {} ({w}×{h}, {} spp)",
         pieces.len(),
         args.output.display(),

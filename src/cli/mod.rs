@@ -1,6 +1,10 @@
 //! Command-line interface: the clap definition of every subcommand and the
 //! dispatch to one module per command. No rendering or language logic here.
 
+// First, so that its `outln!`-style macros are in scope in every command.
+#[macro_use]
+mod console;
+
 mod bench;
 mod check;
 mod compare;

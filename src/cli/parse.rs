@@ -18,12 +18,12 @@ pub struct ParseArgs {
 pub fn run(args: ParseArgs) -> ExitCode {
     match lang::parse_to_canonical(&args.file) {
         Ok(text) => {
-            print!("{text}");
+            out!("{text}");
             ExitCode::SUCCESS
         }
         Err((diagnostics, sources)) => {
             for d in diagnostics {
-                eprint!(
+                err!(
                     "{}",
                     lang::diagnostics::render_plain(&d.to_report(&sources), 100)
                 );

@@ -66,9 +66,9 @@ pub struct RenderArgs {
     /// Render the I-th of N bands of rows (1-based), e.g. `--tile 2/4`.
     #[arg(long, value_parser = split::parse_tile, value_name = "I/N")]
     tile: Option<Tile>,
-    /// Independent sample set K: sample indices K·spp .. (K+1)·spp.
-    #[arg(long, default_value_t = 0, value_name = "K")]
-    pass: u32,
+    /// Independent sample set K (default 0): sample indices K·spp .. (K+1)·spp.
+    #[arg(long, value_name = "K")]
+    pass: Option<u32>,
     /// Animation frame (the scene's `frame`).
     #[arg(long, allow_hyphen_values = true, conflicts_with = "frames")]
     frame: Option<i64>,
@@ -93,6 +93,15 @@ pub struct RenderArgs {
     /// Scene parameter override `name=value` (repeatable).
     #[arg(short = 'D', value_parser = super::parse_define)]
     define: Vec<(String, String)>,
+    /// The memory the scene's geometry, lights and textures may take, in
+    /// GiB (default 16); a scene estimated above it is refused.
+    #[arg(long, value_name = "GIB", value_parser = parse_budget)]
+    memory_budget: Option<f64>,
+    /// Write the sidecar `OUTPUT.json` that `rtlang merge` reads even for a
+    /// whole single render (`--tile`, `--crop`, `--pass` and `--checkpoint`
+    /// always write it).
+    #[arg(long)]
+    sidecar: bool,
     /// No progress bar (same as `--progress none`).
     #[arg(long)]
     quiet: bool,
@@ -139,6 +148,18 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
     Duration::try_from_secs_f64(seconds).map_err(|e| e.to_string())
 }
 
+/// A memory budget in GiB: positive and at most 1 TiB.
+fn parse_budget(s: &str) -> Result<f64, String> {
+    let gib: f64 = s.trim().parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if gib > 0.0 && gib <= 1024.0 {
+        Ok(gib)
+    } else {
+        Err(format!(
+            "the memory budget must be in (0, 1024] GiB, not {gib}"
+        ))
+    }
+}
+
 /// A frame rate in (0, 1000], the range a scene's `fps` may take.
 fn parse_fps(s: &str) -> Result<f64, String> {
     let fps: f64 = s.trim().parse().map_err(|e| format!("`{s}`: {e}"))?;
@@ -164,7 +185,7 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
 }
 
 fn fail(message: impl std::fmt::Display) -> Failure {
-    eprintln!("error: {message}");
+    errln!("error: {message}");
     Failure::Error
 }
 
@@ -202,7 +223,7 @@ fn run_all(args: &RenderArgs) -> Result<(), Failure> {
     }
     let fallback = AtomicBool::new(false);
     let stop = interrupt::stop_flag().unwrap_or_else(|e| {
-        eprintln!("warning: cannot catch interrupts ({e}); an interrupted render is lost");
+        errln!("warning: cannot catch interrupts ({e}); an interrupted render is lost");
         &fallback
     });
     for frame in first..=last {
@@ -217,19 +238,23 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         Some(c) => Some(split::expand_frame(c, frame).map_err(fail)?),
         None => None,
     };
-    let lang_options = rtlang::lang::Options {
+    let mut lang_options = rtlang::lang::Options {
         defines: args.define.clone(),
         frame: frame as f64,
         fps: args.fps,
+        ..rtlang::lang::Options::default()
     };
+    if let Some(gib) = args.memory_budget {
+        lang_options.memory_budget = (gib * (1u64 << 30) as f64) as u64;
+    }
     let loaded = rtlang::lang::load_scene_with(&args.scene, &lang_options).map_err(|reports| {
         for r in reports {
-            eprintln!("{r:?}");
+            errln!("{r:?}");
         }
         Failure::Error
     })?;
     for w in &loaded.warnings {
-        eprintln!("{w:?}");
+        errln!("{w:?}");
     }
     let scene = loaded.scene;
     let options = options_for(args, &scene.settings)?;
@@ -242,7 +267,7 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
     let mut film = match &checkpoint_path {
         Some(path) if args.resume && path.exists() => {
             checkpoint::load(path, &header).map_err(|e| {
-                eprintln!("{:?}", miette::Report::new(e));
+                errln!("{:?}", miette::Report::new(e));
                 Failure::Error
             })?
         }
@@ -273,7 +298,8 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
             // Holding stdout while counting keeps the lines in order.
             let mut out = std::io::stdout().lock();
             let done = meter.add(n);
-            let _ = writeln!(out, "{}", meter.report("tile", fnum, pass, done).json());
+            let line = writeln!(out, "{}", meter.report("tile", fnum, pass, done).json());
+            super::console::or_exit(line.and_then(|()| out.flush()), super::console::Stream::Out);
         } else {
             meter.add(n);
         }
@@ -329,13 +355,13 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         spp_reached: reached,
         ..header.piece.clone()
     };
-    write_outputs(&output, &film, &info)?;
+    write_outputs(&output, &film, wants_sidecar(args).then_some(&info))?;
     if mode == Progress::Json {
         let event = if interrupted { "interrupted" } else { "pass" };
-        println!("{}", meter.report(event, fnum, pass, meter.done()).json());
+        outln!("{}", meter.report(event, fnum, pass, meter.done()).json());
     }
     let secs = stats.wall.as_secs_f64().max(1e-9);
-    eprintln!(
+    errln!(
         "{} {} in {:.2} s at {} of {} spp: {:.3} M samples/s, {:.3} M rays/s, {} dropped samples, {} Newton failures",
         if interrupted { "interrupted; wrote" } else { "rendered" },
         output.display(),
@@ -348,7 +374,7 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         stats.newton_failures
     );
     if stats.spp_min != stats.spp_max || args.time.is_some() {
-        eprintln!(
+        errln!(
             "samples per pixel: {} to {}, mean {:.1}{}",
             stats.spp_min,
             stats.spp_max,
@@ -378,7 +404,7 @@ fn options_for(
     options.max_depth = args.max_depth.unwrap_or(options.max_depth);
     options.seed = args.seed.unwrap_or(options.seed);
     options.threads = args.threads;
-    options.pass = args.pass;
+    options.pass = args.pass.unwrap_or(0);
     options.light_sampling = args.integrator == Integrator::Nee;
     options.clamp = args.clamp;
     options.noise = args.noise;
@@ -399,12 +425,26 @@ fn options_for(
 
 fn save_checkpoint(path: &Path, header: &Header, film: &Film) {
     if let Err(e) = checkpoint::save(path, header, film) {
-        eprintln!("warning: {:?}", miette::Report::new(e));
+        errln!("warning: {:?}", miette::Report::new(e));
     }
 }
 
-fn write_outputs(output: &Path, film: &Film, info: &PieceInfo) -> Result<(), Failure> {
+/// Whether the render is a piece of a larger one (a tile, a crop, a pass, a
+/// checkpointed run) or the user asked for its sidecar: only then is the
+/// sidecar written, so a plain render leaves just its image.
+fn wants_sidecar(args: &RenderArgs) -> bool {
+    args.sidecar
+        || args.tile.is_some()
+        || args.crop.is_some()
+        || args.pass.is_some()
+        || args.checkpoint.is_some()
+}
+
+fn write_outputs(output: &Path, film: &Film, info: Option<&PieceInfo>) -> Result<(), Failure> {
     let r = film.region;
     write_image(output, r.width(), r.height(), &film.pixels()).map_err(fail)?;
-    info.write(output).map_err(fail)
+    match info {
+        Some(info) => info.write(output).map_err(fail),
+        None => Ok(()),
+    }
 }

@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 /// A thin-lens perspective camera.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Camera {
     pub from: Vec3,
     pub at: Vec3,

@@ -7,7 +7,7 @@ use glam::{DVec2, Vec2};
 /// A Bézier curve given by its control points `(radius, height)`; degree is
 /// `points.len() - 1 ≥ 1`. The surface of revolution sweeps it about the
 /// object's y axis, with radius `|x|`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Bezier {
     pub points: Vec<Vec2>,
 }

@@ -1,7 +1,7 @@
 //! A 64-bit FNV-1a digest of plain data. Large arrays (mesh vertices and
-//! indices, image pixels) show in `Debug` output, and so in a render's scene
-//! identity, as their length and digest rather than as millions of
-//! formatted numbers.
+//! indices, image pixels) show in `Debug` output as their length and digest
+//! rather than as millions of formatted numbers; the same hash takes a
+//! scene's serialized bytes for its identity (`render::piece::scene_identity`).
 
 use std::fmt;
 
@@ -33,6 +33,18 @@ impl Fnv {
 impl fmt::Write for Fnv {
     fn write_str(&mut self, s: &str) -> fmt::Result {
         self.bytes(s.as_bytes());
+        Ok(())
+    }
+}
+
+/// So that a serializer can write straight into the hash.
+impl std::io::Write for Fnv {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.bytes(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
     }
 }

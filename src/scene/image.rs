@@ -5,7 +5,7 @@ use std::path::Path;
 use glam::Vec3;
 
 /// An image decoded to linear RGB, row 0 at the top.
-#[derive(Clone, PartialEq)]
+#[derive(Clone, PartialEq, serde::Serialize)]
 pub struct ImageData {
     pub width: u32,
     pub height: u32,

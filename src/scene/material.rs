@@ -3,7 +3,7 @@
 use super::TextureId;
 
 /// How a surface (or a medium) scatters and emits light.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum Material {
     /// Ideal diffuse reflection.
     Lambertian { albedo: TextureId },

@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 
 /// An indexed triangle mesh. `normals` and `uvs` are either empty or as long
 /// as `positions`, indexed by the same triangle indices.
-#[derive(Clone, Default, PartialEq)]
+#[derive(Clone, Default, PartialEq, serde::Serialize)]
 pub struct MeshData {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
@@ -38,17 +38,18 @@ impl std::fmt::Debug for MeshData {
 
 /// A material named by a mesh file, already mapped to an rtlang material
 /// whose textures are given inline (the evaluator turns them into ids).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct MeshMaterial {
     pub name: String,
     pub kind: MeshMaterialKind,
 }
 
 /// What an MTL entry maps to.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum MeshMaterialKind {
     Diffuse {
         color: Vec3,
+        #[serde(serialize_with = "lossy_path")]
         texture: Option<std::path::PathBuf>,
     },
     Metal {
@@ -95,5 +96,17 @@ impl MeshData {
                 .iter()
                 .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
         )
+    }
+}
+
+/// A path as text (lossily when it is not UTF-8), so that serializing a mesh
+/// for the scene identity cannot fail.
+fn lossy_path<S: serde::Serializer>(
+    path: &Option<std::path::PathBuf>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match path {
+        Some(p) => s.serialize_some(&p.to_string_lossy()),
+        None => s.serialize_none(),
     }
 }

@@ -14,6 +14,7 @@ pub mod material;
 pub mod mesh;
 pub mod motion;
 pub mod obj;
+pub mod obj_lines;
 pub mod object;
 pub mod settings;
 pub mod texture;
@@ -31,20 +32,20 @@ pub use settings::{Background, Settings};
 pub use texture::Texture;
 
 /// Index of a texture in [`Scene::textures`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct TextureId(pub u32);
 
 /// Index of a material in [`Scene::materials`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct MaterialId(pub u32);
 
 /// Index of a triangle mesh in [`Scene::meshes`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct MeshId(pub u32);
 
 /// Index of a prototype (an object defined once and placed many times) in
 /// [`Scene::prototypes`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct ProtoId(pub u32);
 
 /// A complete scene description, ready to be built into geometry and rendered.

@@ -12,11 +12,11 @@ mod validate;
 use glam::{Mat4, Vec3};
 
 pub use compiled::CompiledMotion;
-pub use interval::Interval;
+pub use interval::{Finiteness, Interval};
 pub use validate::ProgramError;
 
 /// A one-argument built-in function.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Fn1 {
     Sin,
     Cos,
@@ -31,7 +31,7 @@ pub enum Fn1 {
 }
 
 /// A two-argument built-in function.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Fn2 {
     Min,
     Max,
@@ -39,7 +39,7 @@ pub enum Fn2 {
 }
 
 /// A three-argument built-in function.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Fn3 {
     /// lerp(a, b, x) = a + (b − a)·x
     Lerp,
@@ -51,7 +51,7 @@ pub enum Fn3 {
 
 /// One instruction of a [`Program`]; operands are popped from the stack and
 /// the result pushed.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum Op {
     Const(f32),
     /// The ray time `t`.
@@ -75,7 +75,7 @@ pub enum Op {
 }
 
 /// A compiled scalar expression of `t`.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Program {
     pub ops: Vec<Op>,
     /// Keyframe tables referenced by [`Op::Keyframes`].
@@ -84,7 +84,7 @@ pub struct Program {
 
 /// One transform step of a motion block, applied in order like static
 /// transforms (the first step is applied to the object first).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum MotionStep {
     Translate([Program; 3]),
     /// Rotation about a fixed unit `axis` by `degrees(t)`.
@@ -98,7 +98,7 @@ pub enum MotionStep {
 }
 
 /// A time-dependent object-to-world transform.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Motion {
     pub steps: Vec<MotionStep>,
 }

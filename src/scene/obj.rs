@@ -26,10 +26,23 @@ pub enum ObjError {
     Io { path: String, message: String },
     #[error("cannot parse `{path}`: {message}")]
     Parse { path: String, message: String },
+    #[error("{path}:{line}:{column}: {message}\n  {line} | {text}")]
+    At {
+        path: String,
+        line: usize,
+        column: usize,
+        text: String,
+        message: String,
+    },
     #[error("`{path}` has no faces")]
     Empty { path: String },
     #[error("`{path}` has a vertex that is not a finite number")]
     NonFinite { path: String },
+    #[error(
+        "`{path}` has a vertex coordinate {value:e}, beyond the limit ±{:e}",
+        super::object::MAX_COORDINATE
+    )]
+    TooFar { path: String, value: f32 },
     #[error(
         "`{path}` has {count} materials; a mesh may have at most {}",
         MAX_MATERIALS
@@ -48,6 +61,19 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
         return Err(ObjError::Io {
             path: shown,
             message: e.to_string(),
+        });
+    }
+    let bytes = std::fs::read(path).map_err(|e| ObjError::Io {
+        path: shown.clone(),
+        message: e.to_string(),
+    })?;
+    if let Some(e) = super::obj_lines::check(&bytes) {
+        return Err(ObjError::At {
+            path: shown,
+            line: e.line,
+            column: e.column,
+            text: e.text,
+            message: e.message,
         });
     }
     let options = tobj::LoadOptions {
@@ -122,6 +148,15 @@ fn merge_models(
             let v = Vec3::new(p[0], p[1], p[2]);
             if !v.is_finite() {
                 return Err(ObjError::NonFinite { path: shown.into() });
+            }
+            if v.abs().max_element() > super::object::MAX_COORDINATE {
+                return Err(ObjError::TooFar {
+                    path: shown.into(),
+                    value: *p
+                        .iter()
+                        .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+                        .unwrap_or(&0.0),
+                });
             }
             out.positions.push(v);
         }

@@ -5,8 +5,13 @@ use glam::{Mat4, Vec3};
 
 use super::{Bezier, MaterialId, MeshId, Motion, ProtoId};
 
+/// The largest coordinate magnitude a triangle or mesh vertex may have:
+/// intersecting a triangle multiplies two coordinates (an area) in f32,
+/// which holds up to 3.4e38, so 1e18 leaves a margin of 100 for the sums.
+pub const MAX_COORDINATE: f32 = 1e18;
+
 /// Which axis-aligned plane a rectangle lies in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum RectPlane {
     /// z = k, spanning x in `a`, y in `b`.
     Xy,
@@ -17,7 +22,7 @@ pub enum RectPlane {
 }
 
 /// How a surface of revolution is intersected.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum RevolutionMode {
     /// A tessellated mesh with `resolution` segments along the curve and
     /// around the axis.
@@ -29,7 +34,7 @@ pub enum RevolutionMode {
 }
 
 /// A geometric primitive in its object space.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum Shape {
     Sphere {
         center: Vec3,
@@ -63,7 +68,7 @@ pub enum Shape {
 }
 
 /// A node of the object tree.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum Node {
     /// A primitive with its material.
     Shape { shape: Shape, material: MaterialId },

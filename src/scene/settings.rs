@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 /// What a ray that leaves the scene sees.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub enum Background {
     /// One colour in every direction (linear RGB).
     Solid(Vec3),

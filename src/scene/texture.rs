@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::{ImageData, TextureId};
 
 /// Where a checker pattern is evaluated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum CheckerSpace {
     /// The seed's 3-D checker: `even` where sin(sx)·sin(sy)·sin(sz) ≥ 0.
     Solid,
@@ -17,7 +17,7 @@ pub enum CheckerSpace {
 }
 
 /// A colour that varies over a surface.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub enum Texture {
     /// One linear RGB colour.
     Solid(Vec3),

@@ -79,7 +79,14 @@ impl ShearedRay {
         }
         let z = rel.map(|q| s.z * q[kz]);
         let t_scaled = u * z[0] + v * z[1] + w * z[2];
-        let t = t_scaled / det;
+        let mut t = t_scaled / det;
+        if !t_scaled.is_finite() {
+            // Coordinates past about 1e12 overflow the f32 product (an area
+            // times a distance); f64 holds it up to the evaluator's limit.
+            let f = |x: f32| x as f64;
+            let exact = f(u) * f(z[0]) + f(v) * f(z[1]) + f(w) * f(z[2]);
+            t = (exact / f(det)) as f32;
+        }
         if !(t > t_min && t < t_max) {
             return None;
         }

@@ -56,6 +56,8 @@ impl Evaluator {
         }
         match ImageData::load(&full) {
             Ok(image) => {
+                let bytes = std::mem::size_of_val(image.pixels.as_slice()) as f64;
+                self.charge(bytes, span, "this image's pixels")?;
                 let id = self.scene.add_texture(Texture::Image(Arc::new(image)));
                 self.caches.images.insert(full, id);
                 Ok(id)
@@ -151,6 +153,8 @@ impl Evaluator {
         }
         match ImageData::load(full) {
             Ok(image) => {
+                let bytes = std::mem::size_of_val(image.pixels.as_slice()) as f64;
+                self.charge(bytes, span, "this image's pixels").ok()?;
                 let id = self.scene.add_texture(Texture::Image(Arc::new(image)));
                 self.caches.images.insert(full.to_path_buf(), id);
                 Some(id)

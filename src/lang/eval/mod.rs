@@ -4,6 +4,7 @@
 //! motion, settings and assets.
 
 mod assets;
+mod budget;
 mod builtins;
 mod convert;
 mod defs;
@@ -21,6 +22,7 @@ mod value;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use crate::scene::motion::MotionStep;
 use crate::scene::{MaterialId, MeshId, ProtoId, Scene, TextureId};
 
 use super::ast::{Expr, Ident, Item};
@@ -39,6 +41,8 @@ pub struct Options {
     pub frame: f64,
     /// Frames per second, the value of the name `fps`.
     pub fps: f64,
+    /// Bytes the scene's estimated memory may reach (see `budget.rs`).
+    pub memory_budget: u64,
 }
 
 impl Default for Options {
@@ -47,6 +51,7 @@ impl Default for Options {
             defines: Vec::new(),
             frame: 0.0,
             fps: 24.0,
+            memory_budget: budget::DEFAULT_BUDGET,
         }
     }
 }
@@ -115,6 +120,10 @@ pub(crate) struct Evaluator {
     camera_seen: Option<Span>,
     size_span: Option<Span>,
     samples_span: Option<Span>,
+    /// Every motion transform, to be proved finite over the shutter once
+    /// the camera (which may come later in the file) is known.
+    motion_checks: Vec<(Span, MotionStep)>,
+    memory: budget::Memory,
 }
 
 /// Everything loaded or built once and shared.
@@ -145,6 +154,8 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
         camera_seen: None,
         size_span: None,
         samples_span: None,
+        motion_checks: Vec::new(),
+        memory: budget::Memory::default(),
     };
     let items = ev.load_all(path);
     ev.run(&items);
@@ -199,6 +210,7 @@ impl Evaluator {
             }
         }
         self.finish_settings();
+        self.check_motions();
         self.check_unused();
     }
 

@@ -10,7 +10,7 @@ use crate::lang::ast::{Arg, BinOp, Expr, ExprKind, Stmt, TransformKind};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::expr::Sym;
 use crate::lang::source::Span;
-use crate::scene::motion::{MotionStep, Program};
+use crate::scene::motion::{Finiteness, MotionStep, Program};
 
 /// A symbolic value: a scalar or a vector of scalars.
 enum SymVal {
@@ -43,7 +43,10 @@ impl Evaluator {
                 continue;
             };
             match self.motion_step(&t.kind) {
-                Ok(step) => steps.push(step),
+                Ok(step) => {
+                    self.motion_checks.push((t.span, step.clone()));
+                    steps.push(step);
+                }
                 Err(_) => failed = true,
             }
         }
@@ -51,6 +54,59 @@ impl Evaluator {
             Err(Fail)
         } else {
             Ok(steps)
+        }
+    }
+
+    /// Proves every motion transform finite over the shutter, reporting each
+    /// one (once, however often it was placed) that is not, or that cannot be
+    /// proved so.
+    pub(super) fn check_motions(&mut self) {
+        let (open, close) = self.scene.camera.shutter;
+        let mut seen = std::collections::HashSet::new();
+        for (span, step) in std::mem::take(&mut self.motion_checks) {
+            if !seen.insert(span) {
+                continue;
+            }
+            let verdict = step
+                .programs()
+                .iter()
+                .map(|p| p.finiteness(open, close))
+                .find(|f| *f != Finiteness::Finite);
+            let t = match verdict {
+                None | Some(Finiteness::Finite) => continue,
+                Some(Finiteness::NotFiniteAt(t)) => t,
+                Some(Finiteness::Unproven) => {
+                    // Bounds are conservative: no time found where it fails.
+                    self.diagnostics.push(
+                        Diagnostic::warning(
+                            "rtlang::motion-unproven",
+                            span,
+                            format!(
+                                "this motion could not be proved finite over the shutter [{open}, {close}]"
+                            ),
+                        )
+                        .label("no time found where it is NaN or infinite")
+                        .help("if the object vanishes at some time, check this motion's square roots, logarithms and divisions"),
+                    );
+                    continue;
+                }
+            };
+            let label = format!("NaN or infinite at t = {t}");
+            self.report(
+                Diagnostic::error(
+                    "rtlang::motion-not-finite",
+                    span,
+                    format!(
+                        "this motion is not a finite number for every time of the shutter [{open}, {close}]"
+                    ),
+                )
+                .label(label)
+                .help(
+                    "an object whose placement is NaN or infinite at some time vanishes then; \
+                     keep square roots and logarithms of non-negative values, divisors away from 0 \
+                     and values within ±3.4e38 over the whole shutter",
+                ),
+            );
         }
     }
 

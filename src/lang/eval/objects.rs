@@ -116,6 +116,9 @@ impl Evaluator {
             }
             ObjectKind::Repeat { var, from, to } => return self.repeat(var, from, to, o),
         };
+        if let Ok(n) = &node {
+            self.charge_node(n, o.head)?;
+        }
         let transformed = self.apply_transforms(&block.transforms);
         Ok(transformed?.wrap(flipped(node?, block.flip)))
     }
@@ -310,7 +313,20 @@ impl Evaluator {
         let bb = self.prop_vec3(b, "b", DVec3::X);
         let c = self.prop_vec3(b, "c", DVec3::Y);
         let material = self.shape_material(b, o);
-        let ((a, _), (bv, _), (c, _)) = (a?, bb?, c?);
+        let ((a, sa), (bv, sb), (c, sc)) = (a?, bb?, c?);
+        let limit = crate::scene::object::MAX_COORDINATE;
+        for (v, span) in [(a, sa), (bv, sb), (c, sc)] {
+            self.range(
+                v.as_vec3().abs().max_element() <= limit,
+                if span.is_empty() { o.span } else { span },
+                format!(
+                    "the corner ({}, {}, {}) lies beyond the coordinate limit ±{limit:e}",
+                    v.x, v.y, v.z
+                ),
+                "triangle corners must stay within ±1e18 (an f32 area of larger ones \
+                 overflows); scale the whole scene down, or use a sphere or rect",
+            )?;
+        }
         let area2 = (bv - a).cross(c - a).length();
         let scale = (bv - a).length().max((c - a).length()).max(1e-300);
         self.range(
@@ -556,6 +572,7 @@ impl Evaluator {
                 let id = match self.caches.protos.get(&index) {
                     Some(id) => *id,
                     None => {
+                        self.charge_tree(&node, name.span)?;
                         let id = self.scene.add_prototype((*node).clone());
                         self.caches.protos.insert(index, id);
                         id
@@ -565,6 +582,7 @@ impl Evaluator {
             }
             _ => (*node).clone(),
         };
+        self.charge_tree(&placed, name.span)?;
         Ok(transforms?.wrap(flipped(placed, block.flip)))
     }
 }

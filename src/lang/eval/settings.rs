@@ -181,13 +181,17 @@ impl Evaluator {
         let (Ok((from, fs)), Ok((at, ats))) = (from, at) else {
             return;
         };
-        if (at - from).length() < 1e-12 {
+        // Relative to where the camera is: at 1e8 a step of 1 is lost in f32.
+        let (from32, at32) = (from.as_vec3().as_dvec3(), at.as_vec3().as_dvec3());
+        let size = from32.length().max(at32.length());
+        let gap = (at32 - from32).length();
+        if gap.is_nan() || gap <= 1e-6 * size {
             let span = if ats.is_empty() { fs } else { ats };
             let _ = self.range(
                 false,
                 span,
                 "the camera looks from and at the same point".into(),
-                "`at` must differ from `from`",
+                "`at` must differ from `from` by more than a millionth of their distance from the origin",
             );
             return;
         }

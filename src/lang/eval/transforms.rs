@@ -112,16 +112,22 @@ impl Evaluator {
                 DMat4::from_cols_array(&entries).transpose()
             }
         };
-        let det = m.determinant();
-        if !det.is_finite() || det.abs() < 1e-12 {
+        let cond = condition_number(&m);
+        if cond.is_nan() || cond > MAX_CONDITION {
             return Err(self.report(
                 Diagnostic::error(
                     "rtlang::singular",
                     span,
-                    "this transform is singular (it flattens space)",
+                    "this transform is singular or nearly so (it flattens space)",
                 )
-                .label(format!("determinant {det:e}"))
-                .help("a scale of 0 or a matrix without an inverse cannot place an object"),
+                .label(format!(
+                    "condition number {cond:.1e}, the limit is {MAX_CONDITION:.0e}"
+                ))
+                .help(
+                    "a scale of 0, a scale far smaller along one axis than another, or a matrix \
+                     without an inverse cannot place an object in f32; a uniform scale of any \
+                     size is fine",
+                ),
             ));
         }
         Ok(m)
@@ -161,4 +167,25 @@ pub(super) fn axis_vector(axis: Axis) -> DVec3 {
         Axis::Y => DVec3::Y,
         Axis::Z => DVec3::Z,
     }
+}
+
+/// The largest condition number a transform's linear part may have: with
+/// f32's 24-bit mantissa, a larger one loses more than one digit in six of a
+/// point mapped to the object and back.
+const MAX_CONDITION: f64 = 1e6;
+
+/// The condition number `‖L‖·‖L⁻¹‖` (Frobenius norms, divided by 3 so that
+/// any rotation or uniform scale gives exactly 1) of the linear part `L` of
+/// `m`: relative to the matrix's own scale, so uniform `scale 1e-5` is as
+/// well-conditioned as `scale 1`. Infinite when `L` has no inverse.
+fn condition_number(m: &DMat4) -> f64 {
+    let l = glam::DMat3::from_mat4(*m);
+    let det = l.determinant();
+    if det == 0.0 || !det.is_finite() {
+        return f64::INFINITY;
+    }
+    let frobenius = |a: glam::DMat3| {
+        (a.x_axis.length_squared() + a.y_axis.length_squared() + a.z_axis.length_squared()).sqrt()
+    };
+    frobenius(l) * frobenius(l.inverse()) / 3.0
 }

@@ -241,9 +241,47 @@ impl Program {
 
     /// Bounds of [`Program::eval`] over every `t` in `time`.
     pub fn interval(&self, time: Interval) -> Interval {
+        self.bounds(time).0
+    }
+
+    /// Whether [`Program::eval`] is a finite f32 for every `t` in
+    /// `[lo, hi]`: proved with bounds on ever smaller pieces of the interval
+    /// (down to 2⁻¹⁰ of it), and disproved by a time where it is not.
+    pub fn finiteness(&self, lo: f32, hi: f32) -> Finiteness {
+        self.finiteness_in(lo as f64, hi as f64, 0)
+    }
+
+    fn finiteness_in(&self, lo: f64, hi: f64, depth: u32) -> Finiteness {
+        let (r, in_domain) = self.bounds(Interval::new(lo, hi));
+        if in_domain && r.lo.is_finite() && r.hi.is_finite() {
+            return Finiteness::Finite;
+        }
+        let mid = lo + (hi - lo) / 2.0;
+        for t in [lo, mid, hi] {
+            if !self.eval(t as f32).is_finite() {
+                return Finiteness::NotFiniteAt(t as f32);
+            }
+        }
+        if depth == FINITENESS_SPLITS || mid <= lo || mid >= hi {
+            return Finiteness::Unproven;
+        }
+        match self.finiteness_in(lo, mid, depth + 1) {
+            Finiteness::Finite => self.finiteness_in(mid, hi, depth + 1),
+            other => other,
+        }
+    }
+
+    /// Bounds over `time`, and whether every operation stays inside its
+    /// domain there (no square root or logarithm of a possibly negative
+    /// number, no `pow` of a possibly negative base by a non-integer, no
+    /// smoothstep of unbounded arguments): where one may not, the f32 value
+    /// can be NaN although the bounds, which skip NaN, are finite.
+    fn bounds(&self, time: Interval) -> (Interval, bool) {
         let mut stack = [Interval::ENTIRE; MAX_STACK];
         let mut sp = 0usize;
+        let mut in_domain = true;
         for op in &self.ops {
+            in_domain &= stays_in_domain(*op, &stack[..sp]);
             match *op {
                 Op::Const(c) => {
                     stack[sp] = Interval::point(c as f64);
@@ -279,7 +317,39 @@ impl Program {
                 }
             }
         }
-        stack[0]
+        (stack[0], in_domain)
+    }
+}
+
+/// How many times [`Program::finiteness`] may halve the interval.
+const FINITENESS_SPLITS: u32 = 10;
+
+/// What [`Program::finiteness`] finds over an interval of times.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Finiteness {
+    /// Every value is a finite f32.
+    Finite,
+    /// At this time the value is NaN or infinite.
+    NotFiniteAt(f32),
+    /// Not proved finite, and no time tried gives a non-finite value.
+    Unproven,
+}
+
+/// Whether `op`, applied to operands bounded by the top of `stack`, cannot
+/// produce a NaN that its bounds skip.
+fn stays_in_domain(op: Op, stack: &[Interval]) -> bool {
+    let top = |k: usize| stack[stack.len() - k];
+    match op {
+        Op::Call1(Fn1::Sqrt) => top(1).lo >= 0.0,
+        Op::Call1(Fn1::Ln) => top(1).lo > 0.0,
+        Op::Call2(Fn2::Pow) => {
+            let y = top(1);
+            top(2).lo >= 0.0 || (y.lo == y.hi && y.lo.fract() == 0.0)
+        }
+        Op::Call3(Fn3::Smoothstep) => {
+            (1..=3).all(|k| top(k).lo.is_finite() && top(k).hi.is_finite())
+        }
+        _ => true,
     }
 }
 

@@ -1,0 +1,144 @@
+//! The memory budget: every allocation whose size the scene controls is
+//! estimated as the scene is evaluated (primitives, so `repeat` counts;
+//! tessellated and analytic surfaces of revolution; meshes per placement;
+//! media; light entries; texture images), and the scene is refused at the
+//! object that takes the total past the budget, with both figures in the
+//! message, before anything that large is allocated. The image and film
+//! have their own guard (`settings.rs`). The per-item figures are upper
+//! bounds measured on the renderer's structures (docs/language.md, "Memory
+//! budget", says how).
+
+use super::{Eval, Evaluator, Fail};
+use crate::lang::diagnostics::Diagnostic;
+use crate::lang::source::Span;
+use crate::scene::object::RevolutionMode;
+use crate::scene::{Node, Shape};
+
+/// The budget when none is given: 16 GiB, like the image guard.
+pub const DEFAULT_BUDGET: u64 = 16 << 30;
+
+/// One placed primitive (sphere, rect, box, triangle, plane, medium, placed
+/// prototype): its scene node, its built primitive with bounds, its BVH
+/// leaf and inner nodes, its light entry, and the builder's scratch.
+pub const BYTES_PER_PRIMITIVE: f64 = 1024.0;
+/// One triangle of a mesh (a tessellated revolution or an OBJ file, counted
+/// per placement): its indices and share of the vertex arrays, its order
+/// entry, BVH nodes, light entry and the builder's scratch, with the growth
+/// slack of the arrays the tessellation fills.
+pub const BYTES_PER_TRIANGLE: f64 = 400.0;
+/// One shell piece of an analytic revolution: the inner and outer shells'
+/// triangles and their trees.
+pub const BYTES_PER_SHELL: f64 = 1024.0;
+
+/// A byte count in the largest unit that keeps it above 1.
+pub fn human(bytes: f64) -> String {
+    const UNITS: [&str; 4] = ["bytes", "KiB", "MiB", "GiB"];
+    let mut value = bytes;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{value:.0} bytes")
+    } else {
+        format!("{value:.1} {}", UNITS[unit])
+    }
+}
+
+/// The estimated bytes of one node built from an object (children of groups
+/// are charged when they are built themselves).
+pub fn node_bytes(node: &Node, mesh_triangles: impl Fn(usize) -> usize) -> f64 {
+    match node {
+        Node::Shape {
+            shape: Shape::Revolution { mode, .. },
+            ..
+        } => match *mode {
+            RevolutionMode::Mesh { resolution } => {
+                let r = resolution.max(3) as f64;
+                2.0 * r * r * BYTES_PER_TRIANGLE
+            }
+            RevolutionMode::Analytic { resolution, .. } => {
+                resolution as f64 * BYTES_PER_SHELL + BYTES_PER_PRIMITIVE
+            }
+        },
+        Node::Shape { .. } | Node::Medium { .. } | Node::Instance(_) => BYTES_PER_PRIMITIVE,
+        Node::Mesh { mesh, .. } => mesh_triangles(mesh.0 as usize) as f64 * BYTES_PER_TRIANGLE,
+        Node::Group(_) | Node::Transform { .. } | Node::Motion { .. } | Node::Flip(_) => 0.0,
+    }
+}
+
+/// The estimated bytes of a whole tree (a definition placed by copy).
+pub fn tree_bytes(node: &Node, mesh_triangles: &impl Fn(usize) -> usize) -> f64 {
+    let children = match node {
+        Node::Group(nodes) => nodes.iter().collect(),
+        Node::Transform { child, .. } | Node::Motion { child, .. } | Node::Flip(child) => {
+            vec![child.as_ref()]
+        }
+        Node::Medium { boundary, .. } => vec![boundary.as_ref()],
+        Node::Shape { .. } | Node::Mesh { .. } | Node::Instance(_) => Vec::new(),
+    };
+    node_bytes(node, mesh_triangles)
+        + children
+            .into_iter()
+            .map(|c| tree_bytes(c, mesh_triangles))
+            .sum::<f64>()
+}
+
+impl Evaluator {
+    /// Adds `bytes` for `what` at `span` to the scene's estimate; past the
+    /// budget, reports it (once) and fails.
+    /// Objects inside a definition are charged where it is placed.
+    pub(super) fn charge(&mut self, bytes: f64, span: Span, what: &str) -> Eval<()> {
+        if self.dry || !self.def_stack.is_empty() {
+            return Ok(());
+        }
+        if self.memory.refused {
+            return Err(Fail);
+        }
+        self.memory.estimate += bytes;
+        let budget = self.options.memory_budget as f64;
+        if self.memory.estimate <= budget {
+            return Ok(());
+        }
+        self.memory.refused = true;
+        Err(self.report(
+            Diagnostic::error(
+                "rtlang::memory-budget",
+                span,
+                format!(
+                    "the scene would need about {} of memory, more than the budget of {}",
+                    human(self.memory.estimate),
+                    human(budget)
+                ),
+            )
+            .label(format!("{what}: about {}", human(bytes)))
+            .help(
+                "lower this object's resolution or count, use a mesh or a placed \
+                 definition for many copies, or raise the budget with `--memory-budget GIB`",
+            ),
+        ))
+    }
+
+    /// Charges the node built from an object.
+    pub(super) fn charge_node(&mut self, node: &Node, span: Span) -> Eval<()> {
+        let meshes = &self.scene.meshes;
+        let bytes = node_bytes(node, |i| meshes.get(i).map_or(0, |m| m.triangles.len()));
+        self.charge(bytes, span, "this object")
+    }
+
+    /// Charges a copy of a whole tree (a definition placed once).
+    pub(super) fn charge_tree(&mut self, node: &Node, span: Span) -> Eval<()> {
+        let meshes = &self.scene.meshes;
+        let bytes = tree_bytes(node, &|i| meshes.get(i).map_or(0, |m| m.triangles.len()));
+        self.charge(bytes, span, "this placement")
+    }
+}
+
+/// The running estimate of one evaluation.
+#[derive(Default)]
+pub(super) struct Memory {
+    pub estimate: f64,
+    /// The budget was exceeded and reported; later charges fail quietly.
+    pub refused: bool,
+}
