@@ -8,5 +8,6 @@ pub mod gen;
 pub mod geometry;
 pub mod lang;
 pub mod picture;
+pub mod preview;
 pub mod render;
 pub mod scene;
