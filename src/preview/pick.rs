@@ -21,7 +21,7 @@ impl PickWorld {
     pub fn build(scene: &Scene) -> Result<PickWorld, BuildError> {
         let mut tagged = Scene {
             settings: scene.settings.clone(),
-            camera: scene.camera.clone(),
+            camera: scene.camera,
             textures: Vec::new(),
             materials: Vec::new(),
             meshes: scene.meshes.clone(),

@@ -91,15 +91,16 @@ pub fn handle(request: Request, session: &Session, allowed: &[String]) {
                     session.set_controls(c);
                     json_response(&session.status())
                 }
-                _ => text(400, "expected integrator=nee|path&spp=N (N empty for the scene's)"),
+                _ => text(
+                    400,
+                    "expected integrator=nee|path&spp=N (N empty for the scene's)",
+                ),
             };
             respond(request, response);
             return;
         }
         (_, "/" | "/app.js" | "/style.css" | "/status" | "/events" | "/image.png")
-        | (_, "/save.png" | "/save.exr" | "/pick" | "/controls") => {
-            text(405, "method not allowed")
-        }
+        | (_, "/save.png" | "/save.exr" | "/pick" | "/controls") => text(405, "method not allowed"),
         _ => text(404, "not found"),
     };
     respond(request, response);
@@ -148,7 +149,12 @@ fn json_response(value: &serde_json::Value) -> Body {
 }
 
 fn attachment(mut r: Body, name: Option<&str>) -> Body {
-    if let Some(h) = name.and_then(|n| header("Content-Disposition", &format!("attachment; filename=\"{n}\""))) {
+    if let Some(h) = name.and_then(|n| {
+        header(
+            "Content-Disposition",
+            &format!("attachment; filename=\"{n}\""),
+        )
+    }) {
         r.add_header(h);
     }
     r
@@ -213,7 +219,11 @@ fn events(request: Request, session: &Session) {
             format!("data: {}\n\n", session.status())
         };
         let chunk = format!("{:x}\r\n{event}\r\n", event.len());
-        if out.write_all(chunk.as_bytes()).and_then(|()| out.flush()).is_err() {
+        if out
+            .write_all(chunk.as_bytes())
+            .and_then(|()| out.flush())
+            .is_err()
+        {
             return;
         }
     }

@@ -310,13 +310,7 @@ impl Session {
                 let o = &p.options;
                 let total = o.width as u64 * o.height as u64 * o.spp as u64;
                 let eta = total.saturating_sub(p.samples) as f64 / rate.max(1e-9);
-                (
-                    p.film.spp_reached(),
-                    o.spp,
-                    rate,
-                    eta,
-                    [o.width, o.height],
-                )
+                (p.film.spp_reached(), o.spp, rate, eta, [o.width, o.height])
             }
             None => (0, 0, 0.0, 0.0, [0, 0]),
         };
@@ -365,9 +359,7 @@ impl Session {
             "samples": e.kept,
         });
         let ray = probe::first_ray(&good.scene, &options, x, y);
-        let picker = good
-            .pick
-            .get_or_init(|| PickWorld::build(&good.scene).ok());
+        let picker = good.pick.get_or_init(|| PickWorld::build(&good.scene).ok());
         let Some((index, tagged)) = picker.as_ref().and_then(|p| p.pick(&ray)) else {
             return Some(out);
         };
@@ -459,7 +451,12 @@ fn excerpt(sources: &SourceMap, span: Span) -> String {
         .and_then(|t| t.find('\n'))
         .map_or(text.len(), |i| to + i);
     let lines: Vec<&str> = text.get(start..end).unwrap_or("").lines().collect();
-    let mut out = lines.iter().take(12).copied().collect::<Vec<_>>().join("\n");
+    let mut out = lines
+        .iter()
+        .take(12)
+        .copied()
+        .collect::<Vec<_>>()
+        .join("\n");
     if lines.len() > 12 {
         out.push_str("\n…");
     }

@@ -62,7 +62,11 @@ pub fn estimate(
             kept += 1;
         }
     }
-    let mean = if kept > 0 { sum / kept as f32 } else { Vec3::ZERO };
+    let mean = if kept > 0 {
+        sum / kept as f32
+    } else {
+        Vec3::ZERO
+    };
     let std_error = if kept < 2 {
         Vec3::INFINITY
     } else {
