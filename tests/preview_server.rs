@@ -48,10 +48,28 @@ fn request(addr: SocketAddr, method: &str, path: &str, host: Option<&str>, body:
         .expect("a header end");
     let head = String::from_utf8_lossy(&raw[..split]).to_string();
     let status = head[9..12].parse().expect("a status code");
-    Reply {
-        status,
-        head,
-        body: raw[split + 4..].to_vec(),
+    let mut body = raw[split + 4..].to_vec();
+    if head.contains("Transfer-Encoding: chunked") {
+        body = dechunk(&body);
+    }
+    Reply { status, head, body }
+}
+
+/// The payload of an HTTP/1.1 chunked body.
+fn dechunk(mut raw: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let end = raw
+            .windows(2)
+            .position(|w| w == b"\r\n")
+            .expect("a chunk size line");
+        let size = usize::from_str_radix(std::str::from_utf8(&raw[..end]).expect("hex"), 16)
+            .expect("a chunk size");
+        if size == 0 {
+            return out;
+        }
+        out.extend_from_slice(&raw[end + 2..end + 2 + size]);
+        raw = &raw[end + 4 + size..];
     }
 }
 
@@ -288,7 +306,14 @@ fn image_pick_controls_and_edits() {
     let broken = blue.replace("material ground", "material grund");
     std::fs::write(&path, &broken).expect("edit");
     let s = wait_for(addr, "the diagnostic", |s| s["failed"] == true);
-    let d = &s["diagnostics"][0];
+    let errors: Vec<&Value> = s["diagnostics"]
+        .as_array()
+        .expect("a list")
+        .iter()
+        .filter(|d| d["severity"] == "error")
+        .collect();
+    assert_eq!(errors.len(), 1, "{s}");
+    let d = errors[0];
     assert_eq!(d["code"], "rtlang::unknown-name", "{d}");
     assert_eq!(d["line"], 17);
     let rendered = d["rendered"].as_str().expect("rendered text");

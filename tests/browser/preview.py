@@ -170,8 +170,8 @@ def main():
         check(excerpt.is_displayed() and "radius 0.5" in excerpt.text, "clicking the source shows the excerpt")
 
         scene.write_text(SCENE.replace(RED, BLUE).replace("material ground", "material grund"))
-        wait.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#diagnostics .diagnostic"))
-        diagnostic = driver.find_element(By.CSS_SELECTOR, "#diagnostics .diagnostic")
+        wait.until(lambda d: d.find_elements(By.CSS_SELECTOR, "#diagnostics .diagnostic.error"))
+        diagnostic = driver.find_element(By.CSS_SELECTOR, "#diagnostics .diagnostic.error")
         text = diagnostic.text
         check(diagnostic.get_attribute("data-code") == "rtlang::unknown-name", "the diagnostic has its code")
         check("scene.rt:17:" in text and "grund" in text and "help" in text,
