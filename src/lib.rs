@@ -8,6 +8,7 @@ pub mod gen;
 pub mod geometry;
 pub mod lang;
 pub mod picture;
+/// `rtlang preview`: above `lang` and `render`, like the command line.
 pub mod preview;
 pub mod render;
 pub mod scene;

@@ -47,7 +47,8 @@ function showStatus(s) {
 function showDiagnostics(list) {
   const box = $("diagnostics");
   box.replaceChildren();
-  for (const d of list) {
+  const order = (d) => (d.severity === "error" ? 0 : 1);
+  for (const d of [...list].sort((a, b) => order(a) - order(b))) {
     const div = el("div", undefined, "diagnostic " + d.severity);
     div.dataset.code = d.code;
     const head = el("div");
@@ -58,8 +59,8 @@ function showDiagnostics(list) {
       div.append(where);
       div.dataset.line = d.line;
     }
+    // miette's text, as `rtlang check` prints it: excerpt, marked span, help.
     div.append(el("pre", d.rendered));
-    if (d.help) div.append(el("div", "help: " + d.help, "help"));
     box.append(div);
   }
 }
