@@ -8,7 +8,6 @@ pub mod gen;
 pub mod geometry;
 pub mod lang;
 pub mod picture;
-/// `rtlang preview`: above `lang` and `render`, like the command line.
 pub mod preview;
 pub mod render;
 pub mod scene;
