@@ -101,8 +101,8 @@ fn finished(s: &Value) -> bool {
     s["has_image"] == true && s["spp"] == s["target_spp"]
 }
 
-fn start(dir: &Path) -> Preview {
-    let scene = scratch::write(dir, "scene.rt", SCENE);
+fn start(dir: &Path, text: &str) -> Preview {
+    let scene = scratch::write(dir, "scene.rt", text);
     Preview::start(Config {
         scene,
         options: Options::default(),
@@ -122,7 +122,7 @@ fn png(reply: &Reply) -> image::RgbImage {
 #[test]
 fn routes_and_host_check() {
     let dir = scratch::folder("preview-routes");
-    let preview = start(&dir);
+    let preview = start(&dir, SCENE);
     let addr = preview.addr();
     let page = get(addr, "/");
     assert_eq!(page.status, 200);
@@ -196,7 +196,7 @@ fn routes_and_host_check() {
 #[test]
 fn image_pick_controls_and_edits() {
     let dir = scratch::folder("preview-edits");
-    let preview = start(&dir);
+    let preview = start(&dir, SCENE);
     let addr = preview.addr();
     let s = wait_for(addr, "the first full render", finished);
     assert_eq!(s["target_spp"], 64);
@@ -327,5 +327,40 @@ fn image_pick_controls_and_edits() {
     std::fs::write(&path, &blue).expect("edit");
     let s = wait_for(addr, "the fix", |s| s["failed"] == false && finished(s));
     assert_eq!(s["diagnostics"], serde_json::json!([]));
+    preview.stop();
+}
+
+#[test]
+fn an_edit_of_an_included_file_reloads() {
+    let dir = scratch::folder("preview-include");
+    let ball =
+        "sphere { center (0, 0.5, 0)  radius 0.5  material lambertian(rgb(0.8, 0.1, 0.1)) }\n";
+    let line = SCENE.lines().nth(18).expect("line 19");
+    assert_eq!(line, ball.trim_end());
+    scratch::write(&dir, "ball.rt", ball);
+    let preview = start(&dir, &SCENE.replace(line, "include \"ball.rt\""));
+    let addr = preview.addr();
+    let s = wait_for(addr, "the first render", finished);
+    let [r, _, b] = png(&get(addr, "/image.png")).get_pixel(80, 60).0;
+    assert!(r > 2 * b, "red first");
+    let pick: Value = serde_json::from_slice(&get(addr, "/pick?x=80&y=60").body).expect("JSON");
+    assert!(
+        pick["file"]
+            .as_str()
+            .is_some_and(|f| f.ends_with("ball.rt")),
+        "{pick}"
+    );
+    assert_eq!(pick["line"], 1);
+    let job = s["job"].as_u64();
+    std::fs::write(
+        dir.join("ball.rt"),
+        ball.replace("0.8, 0.1, 0.1", "0.1, 0.1, 0.8"),
+    )
+    .expect("edit");
+    wait_for(addr, "the include edit", |s| {
+        s["job"].as_u64() > job && finished(s)
+    });
+    let [r, _, b] = png(&get(addr, "/image.png")).get_pixel(80, 60).0;
+    assert!(b > 2 * r, "blue after editing the include");
     preview.stop();
 }
