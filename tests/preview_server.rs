@@ -98,7 +98,7 @@ fn wait_for(addr: SocketAddr, what: &str, done: impl Fn(&Value) -> bool) -> Valu
 }
 
 fn finished(s: &Value) -> bool {
-    s["has_image"] == true && s["spp"] == s["target_spp"]
+    s["has_image"] == true && s["coarse"] == false && s["spp"] == s["target_spp"]
 }
 
 fn start(dir: &Path, text: &str) -> Preview {

@@ -21,6 +21,12 @@ use crate::render::{probe, render_film, Hooks, RenderOptions};
 use crate::scene::digest::Fnv;
 use crate::scene::{Node, Scene, Shape};
 
+/// Images with more pixels than this first show a quick 1-spp pass at
+/// 1/[`COARSE_DIVISOR`] of the width and height: 1/16 of the samples of
+/// the first full-size round.
+const COARSE_ABOVE: u64 = 128 * 128;
+const COARSE_DIVISOR: u32 = 4;
+
 /// Width diagnostics are laid out at, as a wide terminal shows them.
 const DIAGNOSTIC_WIDTH: usize = 100;
 
@@ -50,6 +56,8 @@ struct Progress {
     options: RenderOptions,
     samples: u64,
     elapsed: Duration,
+    /// The quick low-resolution pass before the real one.
+    coarse: bool,
 }
 
 struct State {
@@ -269,7 +277,29 @@ impl Session {
         }
     }
 
+    /// A large image first gets a quick 1-spp pass at a fraction of its
+    /// size, then its real rounds.
     fn render_job(&self, job: u64, cancel: &AtomicBool, good: &Good, options: &RenderOptions) {
+        if options.width as u64 * options.height as u64 > COARSE_ABOVE {
+            let coarse = RenderOptions {
+                width: (options.width / COARSE_DIVISOR).max(1),
+                height: (options.height / COARSE_DIVISOR).max(1),
+                spp: 1,
+                ..options.clone()
+            };
+            self.render_pass(job, cancel, good, &coarse, true);
+        }
+        self.render_pass(job, cancel, good, options, false);
+    }
+
+    fn render_pass(
+        &self,
+        job: u64,
+        cancel: &AtomicBool,
+        good: &Good,
+        options: &RenderOptions,
+        coarse: bool,
+    ) {
         let Ok(region) = options.region() else {
             return;
         };
@@ -287,6 +317,7 @@ impl Session {
                     options: options.clone(),
                     samples: samples.load(Ordering::Relaxed),
                     elapsed: start.elapsed(),
+                    coarse,
                 });
                 self.publish(&mut state);
             }
@@ -324,6 +355,7 @@ impl Session {
             "size": size,
             "failed": state.failed,
             "has_image": state.progress.is_some(),
+            "coarse": state.progress.as_ref().is_some_and(|p| p.coarse),
             "diagnostics": state.diagnostics,
             "controls": {
                 "integrator": if state.controls.nee { "nee" } else { "path" },

@@ -101,7 +101,7 @@ def finished(driver):
     """Whether the page shows a fully sampled, current picture."""
     return driver.execute_script(
         "const s = status; const i = document.getElementById('render');"
-        "return !!s && s.has_image && s.spp === s.target_spp && !s.failed"
+        "return !!s && s.has_image && !s.coarse && s.spp === s.target_spp && !s.failed"
         " && i.complete && i.naturalWidth > 0 && i.src.includes(s.job + '-' + s.spp + '-');"
     )
 

@@ -34,7 +34,9 @@ function showStatus(s) {
   img.classList.toggle("stale", s.failed);
   const rate = s.samples_per_second;
   const left = s.spp >= s.target_spp ? "done" : "ETA " + fmtTime(s.eta_seconds);
-  $("stats").textContent = s.has_image
+  $("stats").textContent = s.coarse
+    ? "a quick low-resolution look; sampling the full image…"
+    : s.has_image
     ? `${s.spp} / ${s.target_spp} spp · ${(rate / 1e6).toFixed(2)} M samples/s · ${left}`
     : (s.failed ? "the scene has errors" : "rendering the first round…");
   $("stats").dataset.spp = s.spp;
