@@ -8,6 +8,7 @@ pub mod gen;
 pub mod geometry;
 pub mod lang;
 pub mod picture;
+pub mod preview;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -12,6 +12,7 @@ mod gen;
 mod inspect;
 mod merge;
 mod parse;
+mod preview;
 mod render;
 mod split;
 
@@ -45,6 +46,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Join rendered tiles and passes into one image.
     Merge(merge::MergeArgs),
+    /// Serve a live preview of a scene in the browser, following edits.
+    Preview(preview::PreviewArgs),
 }
 
 /// Parses the command line and runs the chosen command.
@@ -59,6 +62,7 @@ pub fn run() -> ExitCode {
         Command::Inspect(args) => inspect::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Merge(args) => merge::run(&args),
+        Command::Preview(args) => preview::run(args),
     }
 }
 

@@ -88,6 +88,11 @@ impl SourceMap {
         self.files.len() as u32 - 1
     }
 
+    /// Every file, in index order.
+    pub fn files(&self) -> &[SourceFile] {
+        &self.files
+    }
+
     /// The file with index `id`.
     pub fn file(&self, id: u32) -> &SourceFile {
         &self.files[id as usize]

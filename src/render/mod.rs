@@ -15,6 +15,7 @@ pub mod merge;
 pub mod options;
 pub mod output;
 pub mod piece;
+pub mod probe;
 pub mod progress;
 pub mod raycast;
 pub mod scenes;

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use crate::scene::motion::MotionStep;
 use crate::scene::{MaterialId, MeshId, ProtoId, Scene, TextureId};
 
-use super::ast::{Expr, Ident, Item};
+use super::ast::{Expr, Ident, Item, Stmt};
 use super::diagnostics::Diagnostic;
 use super::source::{SourceMap, Span};
 
@@ -62,6 +62,12 @@ pub struct Outcome {
     pub scene: Option<Scene>,
     pub diagnostics: Vec<Diagnostic>,
     pub sources: SourceMap,
+    /// The id table from objects back to source: `objects[i]` is the span of
+    /// the top-level statement that made `scene.objects[i]` (the scene itself
+    /// keeps no spans).
+    pub objects: Vec<Span>,
+    /// Asset files read (images, meshes, their material libraries' images).
+    pub assets: Vec<PathBuf>,
 }
 
 /// Marks a failure that has already been reported as a diagnostic.
@@ -116,6 +122,8 @@ pub(crate) struct Evaluator {
     /// loop counts as many).
     place_counts: HashMap<String, usize>,
     default_material: Option<MaterialId>,
+    /// Span of the statement behind each of `scene.objects`.
+    object_spans: Vec<Span>,
     render_seen: Option<Span>,
     camera_seen: Option<Span>,
     size_span: Option<Span>,
@@ -150,6 +158,7 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
         caches: Caches::default(),
         place_counts: HashMap::new(),
         default_material: None,
+        object_spans: Vec::new(),
         render_seen: None,
         camera_seen: None,
         size_span: None,
@@ -160,10 +169,17 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
     let items = ev.load_all(path);
     ev.run(&items);
     let failed = ev.diagnostics.iter().any(Diagnostic::is_error);
+    let mut assets: Vec<PathBuf> = (ev.caches.images.keys())
+        .chain(ev.caches.meshes.keys())
+        .cloned()
+        .collect();
+    assets.sort();
     Outcome {
         scene: (!failed).then_some(ev.scene),
         diagnostics: ev.diagnostics,
         sources: ev.sources,
+        objects: ev.object_spans,
+        assets,
     }
 }
 
@@ -204,6 +220,7 @@ impl Evaluator {
                 Item::Stmt(stmt) => {
                     if let Ok(Some(node)) = self.top_stmt(stmt) {
                         self.scene.objects.push(node);
+                        self.object_spans.push(statement_span(stmt));
                     }
                 }
                 Item::Let { .. } | Item::Param { .. } | Item::Include { .. } => {}
@@ -235,5 +252,14 @@ impl Evaluator {
             .parent()
             .map(Path::to_path_buf)
             .unwrap_or_default()
+    }
+}
+
+/// The span of a top-level statement that can make an object.
+fn statement_span(stmt: &Stmt) -> Span {
+    match stmt {
+        Stmt::Object(o) => o.span,
+        Stmt::Place { span, .. } | Stmt::If { span, .. } => *span,
+        _ => Span::default(),
     }
 }

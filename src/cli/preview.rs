@@ -1,0 +1,89 @@
+//! `rtlang preview SCENE [--port N] [--open]`: starts the live preview
+//! server, prints its URL and serves until Ctrl-C. The work is in
+//! `rtlang::preview`.
+
+use std::net::IpAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+use clap::Args;
+
+use rtlang::preview::{Config, Preview};
+use rtlang::render::interrupt;
+
+/// Arguments of `rtlang preview`.
+#[derive(Args)]
+pub struct PreviewArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Port to listen on (0 picks a free one).
+    #[arg(long, default_value_t = 8300)]
+    port: u16,
+    /// Address to listen on. Anything but a loopback address exposes the
+    /// scene's render to the network (a warning is printed).
+    #[arg(long, default_value = "127.0.0.1")]
+    bind: IpAddr,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    open: bool,
+    /// Scene parameter override `name=value` (repeatable).
+    #[arg(short = 'D', value_parser = super::parse_define)]
+    define: Vec<(String, String)>,
+}
+
+/// Runs the command.
+pub fn run(args: PreviewArgs) -> ExitCode {
+    if !args.bind.is_loopback() {
+        eprintln!(
+            "warning: listening on {}: anyone who can reach this address can see the render",
+            args.bind
+        );
+    }
+    let stop = match interrupt::stop_flag() {
+        Ok(flag) => flag,
+        Err(e) => {
+            eprintln!("error: cannot catch Ctrl-C ({e}), so the preview could not stop cleanly");
+            return ExitCode::FAILURE;
+        }
+    };
+    let config = Config {
+        scene: args.scene,
+        options: rtlang::lang::Options {
+            defines: args.define,
+            ..rtlang::lang::Options::default()
+        },
+        bind: args.bind,
+        port: args.port,
+    };
+    let preview = match Preview::start(config) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    println!("rtlang preview: {}  (Ctrl-C stops)", preview.url());
+    if args.open {
+        open_browser(&preview.url());
+    }
+    while !stop.load(Ordering::Relaxed) {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    eprintln!("stopping the preview");
+    preview.stop();
+    ExitCode::SUCCESS
+}
+
+/// Asks the desktop to open `url`; a failure only prints a hint.
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else {
+        "xdg-open"
+    };
+    if let Err(e) = std::process::Command::new(opener).arg(url).spawn() {
+        eprintln!("warning: cannot open a browser ({opener}: {e}); open {url} yourself");
+    }
+}
