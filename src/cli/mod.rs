@@ -4,6 +4,7 @@
 mod bench;
 mod check;
 mod compare;
+mod fmt;
 mod gen;
 mod inspect;
 mod merge;
@@ -31,6 +32,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Print the canonical source of a scene file's syntax tree.
     Parse(parse::ParseArgs),
+    /// Rewrite scene files in the canonical layout, keeping comments.
+    Fmt(fmt::FmtArgs),
     /// Compare two images: RMSE, relative MSE and PSNR.
     Compare(compare::CompareArgs),
     /// Summarise what the loader makes of an OBJ mesh file.
@@ -50,6 +53,7 @@ pub fn run() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Parse(args) => parse::run(args),
+        Command::Fmt(args) => fmt::run(args),
         Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
         Command::Inspect(args) => inspect::run(args),

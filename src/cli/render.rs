@@ -221,6 +221,7 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         defines: args.define.clone(),
         frame: frame as f64,
         fps: args.fps,
+        ..rtlang::lang::Options::default()
     };
     let loaded = rtlang::lang::load_scene_with(&args.scene, &lang_options).map_err(|reports| {
         for r in reports {

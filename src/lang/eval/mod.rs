@@ -20,10 +20,12 @@ mod value;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::scene::{MaterialId, MeshId, ProtoId, Scene, TextureId};
 
 use super::ast::{Expr, Ident, Item};
+use super::cache::AssetCache;
 use super::diagnostics::Diagnostic;
 use super::source::{SourceMap, Span};
 
@@ -39,6 +41,11 @@ pub struct Options {
     pub frame: f64,
     /// Frames per second, the value of the name `fps`.
     pub fps: f64,
+    /// A file's text to use instead of what is on disk (an editor's buffer).
+    pub overlay: Option<(PathBuf, Arc<str>)>,
+    /// Where images and meshes are loaded through (shared by the language
+    /// server's evaluations).
+    pub assets: Arc<AssetCache>,
 }
 
 impl Default for Options {
@@ -47,6 +54,8 @@ impl Default for Options {
             defines: Vec::new(),
             frame: 0.0,
             fps: 24.0,
+            overlay: None,
+            assets: Arc::default(),
         }
     }
 }
@@ -57,6 +66,9 @@ pub struct Outcome {
     pub scene: Option<Scene>,
     pub diagnostics: Vec<Diagnostic>,
     pub sources: SourceMap,
+    /// The value of each evaluated `let` and `param`, by the span of its
+    /// name: its type and value as hover text.
+    pub values: Vec<(Span, String)>,
 }
 
 /// Marks a failure that has already been reported as a diagnostic.
@@ -149,7 +161,16 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
     let items = ev.load_all(path);
     ev.run(&items);
     let failed = ev.diagnostics.iter().any(Diagnostic::is_error);
+    let values = ev
+        .defs
+        .iter()
+        .filter_map(|d| match &d.state {
+            DefState::Done(v) => Some((d.name.span, v.describe())),
+            _ => None,
+        })
+        .collect();
     Outcome {
+        values,
         scene: (!failed).then_some(ev.scene),
         diagnostics: ev.diagnostics,
         sources: ev.sources,
