@@ -7,6 +7,7 @@ mod compare;
 mod fmt;
 mod gen;
 mod inspect;
+mod lsp;
 mod merge;
 mod parse;
 mod render;
@@ -34,6 +35,8 @@ enum Command {
     Parse(parse::ParseArgs),
     /// Rewrite scene files in the canonical layout, keeping comments.
     Fmt(fmt::FmtArgs),
+    /// Serve the language server protocol on stdin and stdout (for editors).
+    Lsp,
     /// Compare two images: RMSE, relative MSE and PSNR.
     Compare(compare::CompareArgs),
     /// Summarise what the loader makes of an OBJ mesh file.
@@ -54,6 +57,7 @@ pub fn run() -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Parse(args) => parse::run(args),
         Command::Fmt(args) => fmt::run(args),
+        Command::Lsp => lsp::run(),
         Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
         Command::Inspect(args) => inspect::run(args),
