@@ -63,8 +63,7 @@ impl Printer<'_> {
     fn before(&mut self, span: Span) {
         if let Some(trivia) = self.trivia.as_deref_mut() {
             let fresh = self.out.is_empty() || self.out.ends_with("{\n");
-            self.out
-                .push_str(&trivia.before(span, self.indent, fresh));
+            self.out.push_str(&trivia.before(span, self.indent, fresh));
         }
     }
 

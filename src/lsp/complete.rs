@@ -59,7 +59,10 @@ pub fn complete(doc: &Document, at: usize) -> Vec<CompletionItem> {
         items.extend(OBJECTS.iter().chain(&["place", "if"]).map(|k| keyword(k)));
     }
     for e in reference::entries() {
-        if let (true, Some(sig)) = (matches!(e.kind, "function" | "texture" | "material"), e.signature()) {
+        if let (true, Some(sig)) = (
+            matches!(e.kind, "function" | "texture" | "material"),
+            e.signature(),
+        ) {
             items.push(CompletionItem {
                 label: e.name.to_string(),
                 kind: Some(match e.kind {
@@ -138,7 +141,8 @@ mod tests {
 
     #[test]
     fn the_block_under_the_cursor_is_found_in_text_that_does_not_parse() {
-        let text = "render { samples 4 }\nmedium { boundary sphere { rad\n  }\n  den /* { */ \"{\" \n";
+        let text =
+            "render { samples 4 }\nmedium { boundary sphere { rad\n  }\n  den /* { */ \"{\" \n";
         let at = |needle: &str| text.find(needle).expect("in the text") + needle.len();
         assert_eq!(block_at(text, at("samples")), Some("render"));
         assert_eq!(block_at(text, at("rad")), Some("sphere"));

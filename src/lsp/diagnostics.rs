@@ -33,18 +33,21 @@ pub fn publish(main: &Uri, outcome: &Outcome) -> Vec<PublishDiagnosticsParams> {
         if let Some(help) = &d.help {
             message = format!("{message}\nhelp: {help}");
         }
-        by_file.entry(span.file).or_default().push(lsp_types::Diagnostic {
-            range: range(&outcome.sources, span),
-            severity: Some(match d.severity {
-                Severity::Error => DiagnosticSeverity::ERROR,
-                Severity::Warning => DiagnosticSeverity::WARNING,
-            }),
-            code: Some(NumberOrString::String(d.code.to_string())),
-            source: Some("rtlang".to_string()),
-            message,
-            related_information: (!related.is_empty()).then_some(related),
-            ..lsp_types::Diagnostic::default()
-        });
+        by_file
+            .entry(span.file)
+            .or_default()
+            .push(lsp_types::Diagnostic {
+                range: range(&outcome.sources, span),
+                severity: Some(match d.severity {
+                    Severity::Error => DiagnosticSeverity::ERROR,
+                    Severity::Warning => DiagnosticSeverity::WARNING,
+                }),
+                code: Some(NumberOrString::String(d.code.to_string())),
+                source: Some("rtlang".to_string()),
+                message,
+                related_information: (!related.is_empty()).then_some(related),
+                ..lsp_types::Diagnostic::default()
+            });
     }
     by_file
         .into_iter()

@@ -182,11 +182,11 @@ impl Index {
                     self.expr(e);
                 }
             },
-            Stmt::Motion { body, span } => {
+            Stmt::Motion { body, .. } => {
                 self.stmts(body);
             }
             Stmt::Object(o) => self.object(o),
-            Stmt::Place { name, body, span } => {
+            Stmt::Place { name, body, .. } => {
                 self.uses.push((name.name.clone(), name.span));
                 self.stmts(body);
             }
@@ -195,7 +195,7 @@ impl Index {
                 cond,
                 then,
                 otherwise,
-                span,
+                ..
             } => {
                 self.expr(cond);
                 self.stmts(then);

@@ -51,7 +51,9 @@ pub fn serve(connection: &Connection) -> Result<(), Failure> {
                 if connection.handle_shutdown(&req)? {
                     return Ok(());
                 }
-                connection.sender.send(Message::Response(server.request(req)))?;
+                connection
+                    .sender
+                    .send(Message::Response(server.request(req)))?;
             }
             Message::Notification(n) => {
                 for out in server.notification(n) {
@@ -99,7 +101,11 @@ struct Server {
 /// A request's parameters, or the response that rejects them.
 fn params<P: DeserializeOwned>(req: &Request) -> Result<P, Response> {
     serde_json::from_value(req.params.clone()).map_err(|e| {
-        Response::new_err(req.id.clone(), ErrorCode::InvalidParams as i32, e.to_string())
+        Response::new_err(
+            req.id.clone(),
+            ErrorCode::InvalidParams as i32,
+            e.to_string(),
+        )
     })
 }
 
@@ -131,9 +137,9 @@ impl Server {
             request::GotoDefinition::METHOD => {
                 let p: GotoDefinitionParams = params(req)?;
                 let pos = &p.text_document_position_params;
-                let found = self.at(pos).and_then(|(doc, at)| {
-                    navigate::definition(&pos.text_document.uri, doc, at)
-                });
+                let found = self
+                    .at(pos)
+                    .and_then(|(doc, at)| navigate::definition(&pos.text_document.uri, doc, at));
                 reply(req, found.map(GotoDefinitionResponse::Scalar))
             }
             request::References::METHOD => {
@@ -168,14 +174,20 @@ impl Server {
             request::DocumentSymbolRequest::METHOD => {
                 let p: DocumentSymbolParams = params(req)?;
                 let found = self.documents.get(&p.text_document.uri);
-                reply(req, found.map(|doc| DocumentSymbolResponse::Nested(symbols::outline(doc))))
+                reply(
+                    req,
+                    found.map(|doc| DocumentSymbolResponse::Nested(symbols::outline(doc))),
+                )
             }
             request::SemanticTokensFullRequest::METHOD => {
                 let p: SemanticTokensParams = params(req)?;
-                let found = self.documents.get(&p.text_document.uri).map(|doc| SemanticTokens {
-                    result_id: None,
-                    data: symbols::tokens(doc),
-                });
+                let found = self
+                    .documents
+                    .get(&p.text_document.uri)
+                    .map(|doc| SemanticTokens {
+                        result_id: None,
+                        data: symbols::tokens(doc),
+                    });
                 reply(req, found)
             }
             request::Formatting::METHOD => {
@@ -207,7 +219,12 @@ impl Server {
             notification::DidChangeTextDocument::METHOD => {
                 serde_json::from_value::<DidChangeTextDocumentParams>(n.params)
                     .ok()
-                    .and_then(|p| Some((p.text_document.uri, p.content_changes.into_iter().last()?.text)))
+                    .and_then(|p| {
+                        Some((
+                            p.text_document.uri,
+                            p.content_changes.into_iter().last()?.text,
+                        ))
+                    })
             }
             notification::DidCloseTextDocument::METHOD => {
                 if let Ok(p) = serde_json::from_value::<DidCloseTextDocumentParams>(n.params) {

@@ -38,7 +38,8 @@ fn included_definition(dir: &Path, index: &Index, name: &str) -> Option<Location
             .defs
             .into_iter()
             .find(|d| d.name == name && d.kind != super::index::DefKind::Loop)?;
-        let range = Lines::new(&text).range(def.name_span.start as usize, def.name_span.end as usize);
+        let range =
+            Lines::new(&text).range(def.name_span.start as usize, def.name_span.end as usize);
         Some(Location::new(path_to_uri(&target)?, range))
     })
 }
@@ -65,7 +66,12 @@ pub fn rename(uri: &Uri, doc: &Document, at: usize, new_name: &str) -> Option<Wo
         .index
         .occurrences(def)
         .into_iter()
-        .map(|s| TextEdit::new(lines.range(s.start as usize, s.end as usize), new_name.to_string()))
+        .map(|s| {
+            TextEdit::new(
+                lines.range(s.start as usize, s.end as usize),
+                new_name.to_string(),
+            )
+        })
         .collect();
     Some(WorkspaceEdit::new(HashMap::from([(uri.clone(), edits)])))
 }

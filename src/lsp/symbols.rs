@@ -66,7 +66,10 @@ pub fn tokens(doc: &Document) -> Vec<SemanticToken> {
         }
         let b = bytes[i];
         let run = |pred: &dyn Fn(u8) -> bool| {
-            bytes[i..].iter().position(|&b| !pred(b)).map_or(bytes.len(), |n| i + n)
+            bytes[i..]
+                .iter()
+                .position(|&b| !pred(b))
+                .map_or(bytes.len(), |n| i + n)
         };
         let (end, kind) = match b {
             b'"' => {
@@ -76,7 +79,10 @@ pub fn tokens(doc: &Document) -> Vec<SemanticToken> {
                 }
                 ((j + 1).min(bytes.len()), Some(2))
             }
-            b'0'..=b'9' | b'#' => (run(&|b| b.is_ascii_alphanumeric() || b == b'.' || b == b'#'), Some(3)),
+            b'0'..=b'9' | b'#' => (
+                run(&|b| b.is_ascii_alphanumeric() || b == b'.' || b == b'#'),
+                Some(3),
+            ),
             b if b.is_ascii_alphabetic() || b == b'_' => {
                 let end = run(&|b| b.is_ascii_alphanumeric() || b == b'_');
                 let word = &text[i..end];
@@ -114,7 +120,11 @@ fn encode(lines: &Lines, text: &str, found: &[(usize, usize, u32)]) -> Vec<Seman
             let b = lines.position(to);
             if b.character > a.character {
                 let delta_line = a.line - line;
-                let delta_start = if delta_line == 0 { a.character - col } else { a.character };
+                let delta_start = if delta_line == 0 {
+                    a.character - col
+                } else {
+                    a.character
+                };
                 out.push(SemanticToken {
                     delta_line,
                     delta_start,

@@ -99,10 +99,7 @@ impl Evaluator {
         let kinds: Vec<MeshMaterialKind> = if mesh.materials.is_empty() {
             vec![MeshMaterialKind::fallback()]
         } else {
-            mesh.materials
-                .iter()
-                .map(|m| m.kind.clone())
-                .collect()
+            mesh.materials.iter().map(|m| m.kind.clone()).collect()
         };
         let materials = kinds
             .iter()
