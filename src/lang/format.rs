@@ -65,7 +65,11 @@ impl Interleave<'_> {
         loop {
             let text = self.text.get(start..end).unwrap_or("");
             end = start + text.trim_end().len();
-            match self.comments.iter().find(|c| c.end == end && c.start >= start) {
+            match self
+                .comments
+                .iter()
+                .find(|c| c.end == end && c.start >= start)
+            {
                 Some(c) => end = c.start,
                 None => return end,
             }

@@ -37,6 +37,8 @@ type Failure = Box<dyn Error + Send + Sync>;
 pub fn serve_stdio() -> Result<(), Failure> {
     let (connection, threads) = Connection::stdio();
     serve(&connection)?;
+    // The writer thread ends when the last sender is gone.
+    drop(connection);
     threads.join()?;
     Ok(())
 }
