@@ -57,7 +57,9 @@ fn property_rows_name_exactly_the_blocks_that_accept_them() {
     for e in properties {
         for block in blocks {
             let text = scene_with(block, e.name);
-            let unknown = codes(&text, "prop").contains(&"rtlang::unknown-property");
+            let found = codes(&text, "prop");
+            let unknown =
+                found.contains(&"rtlang::unknown-property") || found.contains(&"rtlang::misplaced");
             assert_eq!(
                 unknown,
                 !e.valid_in(block),
