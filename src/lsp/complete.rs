@@ -92,14 +92,15 @@ pub fn complete(doc: &Document, at: usize) -> Vec<CompletionItem> {
 /// the text (so it works while the text does not parse): each `{` belongs
 /// to the last block keyword before it.
 pub fn block_at(text: &str, at: usize) -> Option<&'static str> {
-    let comments = crate::lang::trivia::comments(text);
+    let mut comments = crate::lang::trivia::comments(text).into_iter().peekable();
     let bytes = text.as_bytes();
     let mut stack: Vec<Option<&'static str>> = Vec::new();
     let mut pending = None;
     let mut i = 0;
     let at = at.min(bytes.len());
     while i < at {
-        if let Some(c) = comments.iter().find(|c| c.start == i) {
+        while comments.next_if(|c| c.start < i).is_some() {}
+        if let Some(c) = comments.next_if(|c| c.start == i) {
             i = c.end;
             continue;
         }

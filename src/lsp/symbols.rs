@@ -57,9 +57,11 @@ pub fn tokens(doc: &Document) -> Vec<SemanticToken> {
     let properties = starts(&doc.index.properties);
     let callees = starts(&doc.index.callees);
     let mut found: Vec<(usize, usize, u32)> = Vec::new();
+    let mut comments = comments.into_iter().peekable();
     let mut i = 0;
     while i < bytes.len() {
-        if let Some(c) = comments.iter().find(|c| c.start == i) {
+        while comments.next_if(|c| c.start < i).is_some() {}
+        if let Some(c) = comments.next_if(|c| c.start == i) {
             found.push((c.start, c.end, 1));
             i = c.end;
             continue;
