@@ -59,4 +59,7 @@ if not vim.wait(10000, function() return vim.api.nvim_win_get_cursor(0)[1] == le
 end
 print(string.format("definition of `ball`: line %d", let_line))
 vim.lsp.stop_client(client)
+if not vim.wait(10000, function() return vim.lsp.get_client_by_id(client) == nil end, 50) then
+  fail("the server did not shut down")
+end
 vim.cmd("qall!")
