@@ -7,6 +7,7 @@
 pub mod gen;
 pub mod geometry;
 pub mod lang;
+pub mod lsp;
 pub mod picture;
 pub mod preview;
 pub mod render;

@@ -8,8 +8,10 @@ mod console;
 mod bench;
 mod check;
 mod compare;
+mod fmt;
 mod gen;
 mod inspect;
+mod lsp;
 mod merge;
 mod parse;
 mod preview;
@@ -36,6 +38,10 @@ enum Command {
     Check(check::CheckArgs),
     /// Print the canonical source of a scene file's syntax tree.
     Parse(parse::ParseArgs),
+    /// Rewrite scene files in the canonical layout, keeping comments.
+    Fmt(fmt::FmtArgs),
+    /// Serve the language server protocol on stdin and stdout (for editors).
+    Lsp,
     /// Compare two images: RMSE, relative MSE and PSNR.
     Compare(compare::CompareArgs),
     /// Summarise what the loader makes of an OBJ mesh file.
@@ -57,6 +63,8 @@ pub fn run() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Parse(args) => parse::run(args),
+        Command::Fmt(args) => fmt::run(args),
+        Command::Lsp => lsp::run(),
         Command::Compare(args) => compare::run(&args),
         Command::Gen(args) => gen::run(args),
         Command::Inspect(args) => inspect::run(args),

@@ -226,3 +226,34 @@ pub enum ExprKind {
     /// A node cut off because the expression nests too deeply (reported).
     Error,
 }
+
+impl Item {
+    /// The span of the whole item.
+    pub fn span(&self) -> Span {
+        match self {
+            Item::Let { span, .. }
+            | Item::Param { span, .. }
+            | Item::Include { span, .. }
+            | Item::Render { span, .. }
+            | Item::Camera { span, .. } => *span,
+            Item::Stmt(stmt) => stmt.span(),
+        }
+    }
+}
+
+impl Stmt {
+    /// The span of the whole statement.
+    pub fn span(&self) -> Span {
+        match self {
+            Stmt::Property { span, .. }
+            | Stmt::Size { span, .. }
+            | Stmt::Shutter { span, .. }
+            | Stmt::Motion { span, .. }
+            | Stmt::Place { span, .. }
+            | Stmt::Flip { span }
+            | Stmt::If { span, .. } => *span,
+            Stmt::Transform(t) => t.span,
+            Stmt::Object(o) => o.span,
+        }
+    }
+}

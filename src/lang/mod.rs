@@ -6,14 +6,17 @@
 //! `rtlang check`.
 
 pub mod ast;
+pub mod cache;
 pub mod diagnostics;
 mod eval;
 pub mod expr;
+pub mod format;
 pub mod names;
 pub mod pretty;
 pub mod scan;
 pub mod source;
 pub mod syntax;
+pub mod trivia;
 
 use std::path::Path;
 

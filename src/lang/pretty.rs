@@ -1,7 +1,8 @@
 //! The canonical printer: an AST back to source text in one fixed layout
 //! (two-space indent, one statement per line, minimal parentheses). Used by
 //! `rtlang parse` and its snapshot tests; printing and re-parsing gives the
-//! same tree.
+//! same tree. `rtlang fmt` prints through the same layout with a [`Trivia`]
+//! source that puts the comments and blank lines back.
 
 use std::fmt::Write;
 
@@ -16,6 +17,19 @@ pub fn file(file: &File) -> String {
     p.out
 }
 
+/// The canonical source of a file with the comments and blank lines that
+/// `trivia` hands out around its items, statements and closing braces.
+pub fn file_with(file: &File, trivia: &mut dyn Trivia) -> String {
+    let mut p = Printer {
+        trivia: Some(trivia),
+        ..Printer::default()
+    };
+    for item in &file.items {
+        p.item(item);
+    }
+    p.out
+}
+
 /// The canonical source of one expression.
 pub fn expr(e: &Expr) -> String {
     let mut p = Printer::default();
@@ -23,13 +37,51 @@ pub fn expr(e: &Expr) -> String {
     p.out
 }
 
-#[derive(Default)]
-struct Printer {
-    out: String,
-    indent: usize,
+/// What the formatter interleaves with the canonical layout. Every string
+/// returned is put into the output as it is.
+pub trait Trivia {
+    /// Whole lines (at `indent`, each ending in a newline) to print before
+    /// the item or statement at `span`; `fresh` is true at the start of the
+    /// file or of a block, where no blank line belongs.
+    fn before(&mut self, span: Span, indent: usize, fresh: bool) -> String;
+    /// Text to append to the last line of the item or statement at `span`.
+    fn after(&mut self, span: Span) -> String;
+    /// Whole lines (at `indent`) to print before the closing brace of the
+    /// block being printed; `empty` when the block has no statement.
+    fn inside(&mut self, empty: bool, indent: usize) -> String;
 }
 
-impl Printer {
+#[derive(Default)]
+struct Printer<'a> {
+    out: String,
+    indent: usize,
+    trivia: Option<&'a mut dyn Trivia>,
+}
+
+impl Printer<'_> {
+    /// The trivia's lines before the item or statement at `span`.
+    fn before(&mut self, span: Span) {
+        if let Some(trivia) = self.trivia.as_deref_mut() {
+            let fresh = self.out.is_empty() || self.out.ends_with("{\n");
+            self.out.push_str(&trivia.before(span, self.indent, fresh));
+        }
+    }
+
+    /// The trivia's text at the end of the item or statement at `span`.
+    fn after(&mut self, span: Span) {
+        if let Some(trivia) = self.trivia.as_deref_mut() {
+            self.out.push_str(&trivia.after(span));
+        }
+    }
+
+    /// The trivia's lines before a closing brace (at `indent`).
+    fn inside(&mut self, empty: bool, indent: usize) -> String {
+        match self.trivia.as_deref_mut() {
+            Some(trivia) => trivia.inside(empty, indent),
+            None => String::new(),
+        }
+    }
+
     fn line(&mut self, text: &str) {
         for _ in 0..self.indent {
             self.out.push_str("  ");
@@ -38,6 +90,9 @@ impl Printer {
     }
 
     fn item(&mut self, item: &Item) {
+        if !matches!(item, Item::Stmt(_)) {
+            self.before(item.span());
+        }
         match item {
             Item::Let { name, value, .. } | Item::Param { name, value, .. } => {
                 let kw = if matches!(item, Item::Let { .. }) {
@@ -47,28 +102,34 @@ impl Printer {
                 };
                 self.line(&format!("{kw} {} = ", name.name));
                 self.expr(value, 0);
-                self.out.push('\n');
             }
             Item::Include { path, .. } => {
-                self.line(&format!("include {}\n", quote(path)));
+                self.line(&format!("include {}", quote(path)));
             }
             Item::Render { body, .. } => {
                 self.line("render");
                 self.block(body);
-                self.out.push('\n');
             }
             Item::Camera { body, .. } => {
                 self.line("camera");
                 self.block(body);
-                self.out.push('\n');
             }
-            Item::Stmt(stmt) => self.stmt(stmt),
+            Item::Stmt(stmt) => return self.stmt(stmt),
         }
+        self.after(item.span());
+        self.out.push('\n');
     }
 
     fn block(&mut self, body: &[Stmt]) {
         if body.is_empty() {
-            self.out.push_str(" {}");
+            let inside = self.inside(true, self.indent + 1);
+            if inside.is_empty() {
+                self.out.push_str(" {}");
+            } else {
+                self.out.push_str(" {\n");
+                self.out.push_str(&inside);
+                self.line("}");
+            }
             return;
         }
         self.out.push_str(" {\n");
@@ -76,11 +137,14 @@ impl Printer {
         for stmt in body {
             self.stmt(stmt);
         }
+        let inside = self.inside(false, self.indent);
+        self.out.push_str(&inside);
         self.indent -= 1;
         self.line("}");
     }
 
     fn stmt(&mut self, stmt: &Stmt) {
+        self.before(stmt.span());
         match stmt {
             Stmt::Property { name, value, .. } => {
                 self.line(&format!("{} ", name.name));
@@ -119,6 +183,7 @@ impl Printer {
                 self.if_stmt(stmt);
             }
         }
+        self.after(stmt.span());
         self.out.push('\n');
     }
 

@@ -2,13 +2,12 @@
 //! used, once per path, with the path tried in every error.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use super::{Eval, Evaluator};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::Span;
 use crate::scene::mesh::MeshMaterialKind;
-use crate::scene::{ImageData, Material, MaterialId, MeshId, Texture, TextureId};
+use crate::scene::{Material, MaterialId, MeshId, Texture, TextureId};
 
 const IMAGE_TYPES: &[&str] = &["png", "jpg", "jpeg"];
 
@@ -54,11 +53,11 @@ impl Evaluator {
         if let Some(&id) = self.caches.images.get(&full) {
             return Ok(id);
         }
-        match ImageData::load(&full) {
+        match self.options.assets.image(&full) {
             Ok(image) => {
                 let bytes = std::mem::size_of_val(image.pixels.as_slice()) as f64;
                 self.charge(bytes, span, "this image's pixels")?;
-                let id = self.scene.add_texture(Texture::Image(Arc::new(image)));
+                let id = self.scene.add_texture(Texture::Image(image));
                 self.caches.images.insert(full, id);
                 Ok(id)
             }
@@ -81,7 +80,7 @@ impl Evaluator {
         if let Some(hit) = self.caches.meshes.get(&full) {
             return Ok(hit.clone());
         }
-        let loaded = match crate::scene::obj::load_obj(&full) {
+        let (mesh, warnings) = match self.options.assets.mesh(&full) {
             Ok(loaded) => loaded,
             Err(e) => {
                 return Err(self.report(
@@ -91,7 +90,7 @@ impl Evaluator {
                 ))
             }
         };
-        for warning in loaded.warnings {
+        for warning in warnings.iter() {
             self.diagnostics.push(
                 Diagnostic::warning("rtlang::mesh-warning", span, warning)
                     .label("in this mesh")
@@ -99,21 +98,16 @@ impl Evaluator {
             );
         }
         let dir = full.parent().map(Path::to_path_buf).unwrap_or_default();
-        let kinds: Vec<MeshMaterialKind> = if loaded.mesh.materials.is_empty() {
+        let kinds: Vec<MeshMaterialKind> = if mesh.materials.is_empty() {
             vec![MeshMaterialKind::fallback()]
         } else {
-            loaded
-                .mesh
-                .materials
-                .iter()
-                .map(|m| m.kind.clone())
-                .collect()
+            mesh.materials.iter().map(|m| m.kind.clone()).collect()
         };
         let materials = kinds
             .iter()
             .map(|kind| self.mesh_material(kind, &dir, span))
             .collect();
-        let id = self.scene.add_mesh(Arc::new(loaded.mesh));
+        let id = self.scene.add_mesh(mesh);
         let entry = (id, materials);
         self.caches.meshes.insert(full, entry.clone());
         Ok(entry)
@@ -151,11 +145,11 @@ impl Evaluator {
         if let Some(&id) = self.caches.images.get(full) {
             return Some(id);
         }
-        match ImageData::load(full) {
+        match self.options.assets.image(full) {
             Ok(image) => {
                 let bytes = std::mem::size_of_val(image.pixels.as_slice()) as f64;
                 self.charge(bytes, span, "this image's pixels").ok()?;
-                let id = self.scene.add_texture(Texture::Image(Arc::new(image)));
+                let id = self.scene.add_texture(Texture::Image(image));
                 self.caches.images.insert(full.to_path_buf(), id);
                 Some(id)
             }

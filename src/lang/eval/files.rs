@@ -108,6 +108,11 @@ impl Evaluator {
             },
             None => d,
         };
+        if let Some((open, text)) = &self.options.overlay {
+            if open == path {
+                return Some(text.clone());
+            }
+        }
         let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
         if size > MAX_FILE_BYTES {
             let d = Diagnostic::global(

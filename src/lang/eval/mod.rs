@@ -21,11 +21,13 @@ mod value;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::scene::motion::MotionStep;
 use crate::scene::{MaterialId, MeshId, ProtoId, Scene, TextureId};
 
 use super::ast::{Expr, Ident, Item, Stmt};
+use super::cache::AssetCache;
 use super::diagnostics::Diagnostic;
 use super::source::{SourceMap, Span};
 
@@ -43,6 +45,11 @@ pub struct Options {
     pub fps: f64,
     /// Bytes the scene's estimated memory may reach (see `budget.rs`).
     pub memory_budget: u64,
+    /// A file's text to use instead of what is on disk (an editor's buffer).
+    pub overlay: Option<(PathBuf, Arc<str>)>,
+    /// Where images and meshes are loaded through (shared by the language
+    /// server's evaluations).
+    pub assets: Arc<AssetCache>,
 }
 
 impl Default for Options {
@@ -52,6 +59,8 @@ impl Default for Options {
             frame: 0.0,
             fps: 24.0,
             memory_budget: budget::DEFAULT_BUDGET,
+            overlay: None,
+            assets: Arc::default(),
         }
     }
 }
@@ -68,6 +77,9 @@ pub struct Outcome {
     pub objects: Vec<Span>,
     /// Asset files read (images, meshes, their material libraries' images).
     pub assets: Vec<PathBuf>,
+    /// The value of each evaluated `let` and `param`, by the span of its
+    /// name: its type and value as hover text.
+    pub values: Vec<(Span, String)>,
 }
 
 /// Marks a failure that has already been reported as a diagnostic.
@@ -174,7 +186,16 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
         .cloned()
         .collect();
     assets.sort();
+    let values = ev
+        .defs
+        .iter()
+        .filter_map(|d| match &d.state {
+            DefState::Done(v) => Some((d.name.span, v.describe())),
+            _ => None,
+        })
+        .collect();
     Outcome {
+        values,
         scene: (!failed).then_some(ev.scene),
         diagnostics: ev.diagnostics,
         sources: ev.sources,

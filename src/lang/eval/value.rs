@@ -43,6 +43,20 @@ impl Value {
             Value::Object(_) => "an object",
         }
     }
+
+    /// The type, and the value itself when it is short: `a number: 2.5`.
+    pub fn describe(&self) -> String {
+        let shown = match self {
+            Value::Num(x) => x.to_string(),
+            Value::Bool(b) => b.to_string(),
+            Value::Str(s) => format!("{s:?}"),
+            Value::Vec2(v) => format!("({}, {})", v.x, v.y),
+            Value::Vec3(v) => format!("({}, {}, {})", v.x, v.y, v.z),
+            Value::List(items) => format!("{} items", items.len()),
+            _ => return self.type_name().to_string(),
+        };
+        format!("{}: {shown}", self.type_name())
+    }
 }
 
 /// `a op b` for the arithmetic operators.

@@ -1,0 +1,276 @@
+//! What the editor features need from one file's syntax tree: definitions
+//! (`let`, `param`, `repeat` variables with their scope), every use of a
+//! name, includes, property names, callees and the outline.
+
+use crate::lang::ast::*;
+
+/// What a definition is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DefKind {
+    Let,
+    Param,
+    /// A `repeat` variable, visible only in its loop.
+    Loop,
+}
+
+/// A name defined in the file.
+#[derive(Clone, Debug)]
+pub struct Def {
+    pub name: String,
+    pub kind: DefKind,
+    /// The span of the name where it is defined.
+    pub name_span: Span,
+    /// The whole definition (the `repeat` object for a loop variable).
+    pub span: Span,
+    /// The canonical source of the value (`None` for a loop variable).
+    pub value: Option<String>,
+}
+
+/// The index of one file.
+#[derive(Debug, Default)]
+pub struct Index {
+    pub defs: Vec<Def>,
+    /// Every name used in an expression or a `place`, with its span.
+    pub uses: Vec<(String, Span)>,
+    /// `include` paths with the span of the whole item.
+    pub includes: Vec<(String, Span)>,
+    /// The name spans of properties.
+    pub properties: Vec<Span>,
+    /// The spans of called function names.
+    pub callees: Vec<Span>,
+    /// Top-level items worth an outline entry: (label, kind, span).
+    pub outline: Vec<(String, &'static str, Span)>,
+}
+
+impl Index {
+    /// Indexes a parsed file.
+    pub fn new(file: &File) -> Index {
+        let mut index = Index::default();
+        for item in &file.items {
+            index.item(item);
+        }
+        index
+    }
+
+    /// The definition a name at byte `at` refers to (or defines).
+    pub fn resolve(&self, at: usize) -> Option<&Def> {
+        if let Some(def) = self
+            .defs
+            .iter()
+            .find(|d| contains(d.name_span, at) && d.kind != DefKind::Loop)
+        {
+            return Some(def);
+        }
+        let (name, span) = self
+            .uses
+            .iter()
+            .find(|(_, s)| contains(*s, at))
+            .map(|(n, s)| (n.as_str(), *s))
+            .or_else(|| {
+                self.defs
+                    .iter()
+                    .find(|d| contains(d.name_span, at))
+                    .map(|d| (d.name.as_str(), d.name_span))
+            })?;
+        self.lookup(name, span.start as usize)
+    }
+
+    /// The definition `name` means at byte `at`: the innermost loop
+    /// variable in scope, else the top-level definition.
+    pub fn lookup(&self, name: &str, at: usize) -> Option<&Def> {
+        self.defs
+            .iter()
+            .filter(|d| d.name == name && d.kind == DefKind::Loop && contains(d.span, at))
+            .min_by_key(|d| d.span.len())
+            .or_else(|| {
+                self.defs
+                    .iter()
+                    .find(|d| d.name == name && d.kind != DefKind::Loop)
+            })
+    }
+
+    /// The spans of `def`'s name where it is defined and everywhere it is used.
+    pub fn occurrences(&self, def: &Def) -> Vec<Span> {
+        let mut spans = vec![def.name_span];
+        spans.extend(
+            self.uses
+                .iter()
+                .filter(|(n, s)| {
+                    *n == def.name
+                        && self
+                            .lookup(n, s.start as usize)
+                            .is_some_and(|d| d.name_span == def.name_span)
+                })
+                .map(|(_, s)| *s),
+        );
+        spans
+    }
+
+    /// The names visible at byte `at`.
+    pub fn in_scope(&self, at: usize) -> impl Iterator<Item = &Def> {
+        self.defs
+            .iter()
+            .filter(move |d| d.kind != DefKind::Loop || contains(d.span, at))
+    }
+
+    fn item(&mut self, item: &Item) {
+        match item {
+            Item::Let { name, value, span } | Item::Param { name, value, span } => {
+                let kind = if matches!(item, Item::Let { .. }) {
+                    DefKind::Let
+                } else {
+                    DefKind::Param
+                };
+                self.defs.push(Def {
+                    name: name.name.clone(),
+                    kind,
+                    name_span: name.span,
+                    span: *span,
+                    value: Some(crate::lang::pretty::expr(value)),
+                });
+                let label = if kind == DefKind::Let { "let" } else { "param" };
+                self.outline.push((name.name.clone(), label, *span));
+                self.expr(value);
+            }
+            Item::Include { path, span } => self.includes.push((path.clone(), *span)),
+            Item::Render { body, span } | Item::Camera { body, span } => {
+                let kind = if matches!(item, Item::Render { .. }) {
+                    "render"
+                } else {
+                    "camera"
+                };
+                self.outline.push((kind.to_string(), kind, *span));
+                self.stmts(body);
+            }
+            Item::Stmt(stmt) => {
+                if let Stmt::Object(o) = stmt {
+                    let kind = object_keyword(&o.kind);
+                    self.outline.push((kind.to_string(), "object", o.span));
+                }
+                self.stmt(stmt);
+            }
+        }
+    }
+
+    fn stmts(&mut self, body: &[Stmt]) {
+        for stmt in body {
+            self.stmt(stmt);
+        }
+    }
+
+    fn stmt(&mut self, stmt: &Stmt) {
+        match stmt {
+            Stmt::Property { name, value, .. } => {
+                self.properties.push(name.span);
+                self.expr(value);
+            }
+            Stmt::Size { width, height, .. } => {
+                self.expr(width);
+                self.expr(height);
+            }
+            Stmt::Shutter { open, close, .. } => {
+                self.expr(open);
+                self.expr(close);
+            }
+            Stmt::Transform(t) => match &t.kind {
+                TransformKind::Translate(e)
+                | TransformKind::RotateAxis(_, e)
+                | TransformKind::Scale(e)
+                | TransformKind::Matrix(e) => self.expr(e),
+                TransformKind::Rotate(a, e) => {
+                    self.expr(a);
+                    self.expr(e);
+                }
+            },
+            Stmt::Motion { body, .. } => {
+                self.stmts(body);
+            }
+            Stmt::Object(o) => self.object(o),
+            Stmt::Place { name, body, .. } => {
+                self.uses.push((name.name.clone(), name.span));
+                self.stmts(body);
+            }
+            Stmt::Flip { .. } => {}
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                ..
+            } => {
+                self.expr(cond);
+                self.stmts(then);
+                self.stmts(otherwise);
+            }
+        }
+    }
+
+    fn object(&mut self, o: &Object) {
+        match &o.kind {
+            ObjectKind::Mesh(e) | ObjectKind::Revolve(e) => self.expr(e),
+            ObjectKind::Repeat { var, from, to } => {
+                self.expr(from);
+                self.expr(to);
+                self.defs.push(Def {
+                    name: var.name.clone(),
+                    kind: DefKind::Loop,
+                    name_span: var.span,
+                    span: o.span,
+                    value: None,
+                });
+            }
+            _ => {}
+        }
+        self.stmts(&o.body);
+    }
+
+    fn expr(&mut self, e: &Expr) {
+        match &e.kind {
+            ExprKind::Name(n) => self.uses.push((n.clone(), e.span)),
+            ExprKind::Tuple(items) | ExprKind::List(items) | ExprKind::Bezier(items) => {
+                items.iter().for_each(|i| self.expr(i));
+            }
+            ExprKind::Call { callee, args } => {
+                self.callees.push(callee.span);
+                args.iter().for_each(|a| self.expr(&a.value));
+            }
+            ExprKind::Neg(x) | ExprKind::Not(x) => self.expr(x),
+            ExprKind::If(c, a, b) => {
+                self.expr(c);
+                self.expr(a);
+                self.expr(b);
+            }
+            ExprKind::Binary(_, a, b) => {
+                self.expr(a);
+                self.expr(b);
+            }
+            ExprKind::Object(o) => self.object(o),
+            ExprKind::Number(_)
+            | ExprKind::Str(_)
+            | ExprKind::Bool(_)
+            | ExprKind::Hex(_)
+            | ExprKind::Error => {}
+        }
+    }
+}
+
+/// The keyword that begins an object of this kind.
+pub fn object_keyword(kind: &ObjectKind) -> &'static str {
+    match kind {
+        ObjectKind::Sphere => "sphere",
+        ObjectKind::Plane => "plane",
+        ObjectKind::Box => "box",
+        ObjectKind::Triangle => "triangle",
+        ObjectKind::Medium => "medium",
+        ObjectKind::Group => "group",
+        ObjectKind::Rect(_) => "rect",
+        ObjectKind::Mesh(_) => "mesh",
+        ObjectKind::Revolve(_) => "revolve",
+        ObjectKind::Repeat { .. } => "repeat",
+    }
+}
+
+/// Whether byte `at` is in `span` (its end included, where a cursor sits
+/// right after a name).
+pub fn contains(span: Span, at: usize) -> bool {
+    span.start as usize <= at && at <= span.end as usize
+}
