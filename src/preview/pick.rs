@@ -8,7 +8,6 @@
 use std::collections::HashMap;
 
 use crate::geometry::{BuildError, Hit, Ray, World};
-use crate::render::rng::Rng;
 use crate::scene::{Material, MaterialId, Node, ProtoId, Scene};
 
 /// The world whose hit materials are top-level object indices.
@@ -43,9 +42,7 @@ impl PickWorld {
 
     /// The nearest hit of `ray` and the index of the top-level object hit.
     pub fn pick(&self, ray: &Ray) -> Option<(usize, Hit)> {
-        // Media scatter at a random depth; a fixed stream keeps picks repeatable.
-        let mut rng = Rng::for_sample(0, 0, 0, 0);
-        let hit = self.world.intersect(ray, 1e-4, f32::INFINITY, &mut rng)?;
+        let hit = self.world.intersect(ray, 1e-4, f32::INFINITY)?;
         Some((hit.material.0 as usize, hit))
     }
 }

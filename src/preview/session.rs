@@ -395,10 +395,9 @@ impl Session {
         let Some((index, tagged)) = picker.as_ref().and_then(|p| p.pick(&ray)) else {
             return Some(out);
         };
-        let mut rng = crate::render::rng::Rng::for_sample(0, 0, 0, 0);
         let hit = good
             .world
-            .intersect(&ray, 1e-4, f32::INFINITY, &mut rng)
+            .intersect(&ray, 1e-4, f32::INFINITY)
             .unwrap_or(tagged);
         let material = good.scene.materials.get(hit.material.0 as usize);
         out["hit"] = json!(true);

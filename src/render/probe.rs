@@ -8,8 +8,8 @@ use glam::Vec3;
 use super::camera::CameraRays;
 use super::integrator::Tracer;
 use super::options::RenderOptions;
-use super::rng::Rng;
 use crate::geometry::{Ray, World};
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// The mean and standard error of a pixel's kept samples.
@@ -28,8 +28,8 @@ pub struct PixelEstimate {
 /// traced it.
 pub fn first_ray(scene: &Scene, options: &RenderOptions, x: u32, y: u32) -> Ray {
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
-    let mut rng = Rng::for_sample(options.seed, x, y, options.first_sample().unwrap_or(0));
-    camera.ray(x, y, &mut rng)
+    let mut sampler = Sampler::for_sample(options.seed, x, y, options.first_sample().unwrap_or(0));
+    camera.ray(x, y, &mut sampler)
 }
 
 /// Re-traces the first `samples` samples of pixel `(x, y)` of the pass
@@ -53,9 +53,9 @@ pub fn estimate(
     let first = options.first_sample().unwrap_or(0);
     let (mut sum, mut sq, mut kept) = (Vec3::ZERO, glam::DVec3::ZERO, 0u32);
     for s in 0..samples {
-        let mut rng = Rng::for_sample(options.seed, x, y, first + s);
-        let ray = camera.ray(x, y, &mut rng);
-        let (l, _) = tracer.radiance(ray, &mut rng);
+        let mut sampler = Sampler::for_sample(options.seed, x, y, first + s);
+        let ray = camera.ray(x, y, &mut sampler);
+        let (l, _) = tracer.radiance(ray, &mut sampler);
         if l.is_finite() {
             sum += l;
             sq += l.as_dvec3() * l.as_dvec3();
