@@ -30,6 +30,9 @@ pub struct Diagnostic {
     /// Further locations (for example the first of two duplicate definitions).
     pub related: Vec<(Span, String)>,
     pub help: Option<String>,
+    /// Context lines printed after the help (`note: ...`), such as the loop
+    /// values or the include chain that led to the problem.
+    pub notes: Vec<String>,
 }
 
 impl Diagnostic {
@@ -43,6 +46,7 @@ impl Diagnostic {
             label: String::new(),
             related: Vec::new(),
             help: None,
+            notes: Vec::new(),
         }
     }
 
@@ -74,6 +78,12 @@ impl Diagnostic {
         self
     }
 
+    /// Adds a note line.
+    pub fn note(mut self, note: impl Into<String>) -> Diagnostic {
+        self.notes.push(note.into());
+        self
+    }
+
     /// Adds a secondary labelled location.
     pub fn related(mut self, span: Span, label: impl Into<String>) -> Diagnostic {
         self.related.push((span, label.into()));
@@ -98,7 +108,7 @@ impl Diagnostic {
                 to_source_span(span),
             ));
             for (other, text) in &self.related {
-                if other.file == span.file {
+                if other.file == span.file && *other != span {
                     labels.push(LabeledSpan::new_with_span(
                         Some(text.clone()),
                         to_source_span(*other),
@@ -128,6 +138,21 @@ impl Diagnostic {
             }
             None => (None, None, None, None),
         };
+        let labels: Vec<serde_json::Value> = self
+            .related
+            .iter()
+            .map(|(s, label)| {
+                let f = sources.file(s.file);
+                let (line, column) = f.line_col(s.start as usize);
+                serde_json::json!({
+                    "file": f.name,
+                    "line": line,
+                    "column": column,
+                    "span": [s.start, s.end],
+                    "label": label,
+                })
+            })
+            .collect();
         serde_json::json!({
             "severity": self.severity,
             "code": self.code,
@@ -137,7 +162,9 @@ impl Diagnostic {
             "column": column,
             "span": span,
             "label": self.label,
+            "labels": labels,
             "help": self.help,
+            "notes": self.notes,
         })
     }
 }
@@ -175,10 +202,19 @@ impl miette::Diagnostic for Rendered {
     }
 
     fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-        self.diagnostic
-            .help
-            .as_ref()
-            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
+        let d = &self.diagnostic;
+        if d.help.is_none() && d.notes.is_empty() {
+            return None;
+        }
+        let mut text = d.help.clone().unwrap_or_default();
+        for note in &d.notes {
+            if !text.is_empty() {
+                text.push('\n');
+            }
+            text.push_str("note: ");
+            text.push_str(note);
+        }
+        Some(Box::new(text))
     }
 
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {

@@ -6,9 +6,11 @@
 //! `rtlang check`.
 
 pub mod ast;
+pub mod builtins;
 pub mod diagnostics;
 mod eval;
 pub mod expr;
+pub mod lexical;
 pub mod names;
 pub mod pretty;
 pub mod scan;
@@ -88,9 +90,12 @@ pub fn parse_to_canonical(path: &Path) -> Result<String, (Vec<Diagnostic>, Sourc
         }
     };
     let file = sources.add(path, path.display().to_string(), text.as_str().into());
-    match syntax::parse_file(&text, file) {
-        Ok((ast, problems)) if problems.is_empty() => Ok(pretty::file(&ast)),
-        Ok((_, problems)) => Err((problems, sources)),
-        Err(d) => Err((vec![*d], sources)),
+    let parsed = syntax::parse_all(&text, file);
+    if parsed.syntax_errors.is_empty() && parsed.problems.is_empty() {
+        Ok(pretty::file(&parsed.file))
+    } else {
+        let mut problems = parsed.syntax_errors;
+        problems.extend(parsed.problems);
+        Err((problems, sources))
     }
 }

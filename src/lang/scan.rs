@@ -18,8 +18,9 @@ pub const MIN_PIECE: usize = 256 * 1024;
 /// is anything an expression may begin with). A line that starts with one,
 /// outside all brackets and comments, is a place to cut the file. Leaving a
 /// keyword out only means fewer places to cut.
-const ITEM_KEYWORDS: [&[u8]; 17] = [
+const ITEM_KEYWORDS: [&[u8]; 18] = [
     b"let",
+    b"fn",
     b"param",
     b"include",
     b"render",
@@ -121,6 +122,20 @@ pub fn check(text: &str, file: u32, pieces: usize) -> Result<Vec<usize>, Box<Dia
     }
     cuts.push(bytes.len());
     Ok(cuts)
+}
+
+/// The first line start after the line holding `from` whose line begins
+/// (in column 0) with an item keyword: where parsing resumes after a
+/// syntax error.
+pub fn next_item(text: &str, from: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let mut at = from;
+    loop {
+        at += bytes.get(at..)?.iter().position(|&b| b == b'\n')? + 1;
+        if starts_an_item(&bytes[at..]) {
+            return Some(at);
+        }
+    }
 }
 
 /// Whether `rest` begins with an item keyword followed by a non-name byte.

@@ -1,6 +1,6 @@
-//! Calls of built-in functions: the signature table (arity and keyword
-//! arguments, checked before the call), numeric functions, colours,
-//! textures and materials.
+//! Calls of built-in functions: checked against the signatures of
+//! [`crate::lang::builtins::TABLE`] before the call, then numeric
+//! functions, colours, textures and materials.
 
 use std::rc::Rc;
 
@@ -16,114 +16,9 @@ use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
 use crate::scene::{Material, Texture};
 
-/// Positional arity range and keyword names of a built-in function.
-struct Signature {
-    min: usize,
-    max: usize,
-    keywords: &'static [&'static str],
-    usage: &'static str,
-}
-
-const fn sig(
-    min: usize,
-    max: usize,
-    keywords: &'static [&'static str],
-    usage: &'static str,
-) -> Signature {
-    Signature {
-        min,
-        max,
-        keywords,
-        usage,
-    }
-}
-
-fn signature(name: &str) -> Option<Signature> {
-    if math::fn1(name).is_some() {
-        return Some(sig(1, 1, &[], "takes one number"));
-    }
-    if math::fn2(name).is_some() {
-        return Some(sig(2, 2, &[], "takes two numbers"));
-    }
-    if math::fn3(name).is_some() {
-        return Some(sig(3, 3, &[], "takes three numbers"));
-    }
-    Some(match name {
-        "random" => sig(1, 1, &[], "random(seed)"),
-        "keyframes" => sig(
-            2,
-            2,
-            &["smooth"],
-            "keyframes(t, [(time, value), ...], smooth: false)",
-        ),
-        "rgb" => sig(3, 3, &[], "rgb(r, g, b)"),
-        "hex" => sig(1, 1, &[], "hex(\"#rrggbb\")"),
-        "gradient" => sig(2, 2, &[], "gradient(bottom, top)"),
-        "solid" => sig(1, 1, &[], "solid(colour)"),
-        "checker" => sig(
-            2,
-            2,
-            &["scale", "uv"],
-            "checker(even, odd, scale: 10, uv: false)",
-        ),
-        "image" => sig(1, 1, &[], "image(\"path.png\")"),
-        "noise" => sig(
-            0,
-            0,
-            &["scale", "color"],
-            "noise(scale: 1, color: rgb(1, 1, 1))",
-        ),
-        "lambertian" => sig(1, 1, &[], "lambertian(colour or texture)"),
-        "metal" => sig(1, 1, &["fuzz"], "metal(colour or texture, fuzz: 0)"),
-        "dielectric" => sig(1, 1, &[], "dielectric(ior)"),
-        "light" => sig(
-            1,
-            1,
-            &["two_sided"],
-            "light(colour or texture, two_sided: false)",
-        ),
-        "isotropic" => sig(1, 1, &[], "isotropic(colour or texture)"),
-        _ => return None,
-    })
-}
-
-/// Every built-in function name, for suggestions.
-const FUNCTIONS: &[&str] = &[
-    "sin",
-    "cos",
-    "tan",
-    "sqrt",
-    "abs",
-    "radians",
-    "degrees",
-    "exp",
-    "ln",
-    "floor",
-    "min",
-    "max",
-    "pow",
-    "lerp",
-    "clamp",
-    "smoothstep",
-    "random",
-    "keyframes",
-    "rgb",
-    "hex",
-    "gradient",
-    "solid",
-    "checker",
-    "image",
-    "noise",
-    "lambertian",
-    "metal",
-    "dielectric",
-    "light",
-    "isotropic",
-];
-
 /// Whether `name` is a built-in function.
 pub fn is_function(name: &str) -> bool {
-    FUNCTIONS.contains(&name)
+    crate::lang::builtins::get(name).is_some()
 }
 
 /// Evaluated arguments of one call.
@@ -144,8 +39,10 @@ impl Args {
 impl Evaluator {
     /// Checks a call against its signature; `None` when `name` is no function.
     pub(super) fn check_call(&mut self, callee: &Ident, args: &[Arg], span: Span) -> Eval<()> {
-        let Some(sig) = signature(&callee.name) else {
-            let help = match names::suggest(&callee.name, FUNCTIONS.iter().copied()) {
+        let Some(sig) = crate::lang::builtins::get(&callee.name) else {
+            let mut candidates: Vec<&str> = crate::lang::builtins::names().collect();
+            candidates.extend(self.funcs.iter().map(|f| f.def.name.name.as_str()));
+            let help = match names::suggest(&callee.name, candidates) {
                 Some(s) => format!("did you mean `{s}`?"),
                 None => "see docs/language.md for the built-in functions".to_string(),
             };
@@ -241,6 +138,9 @@ impl Evaluator {
 
     /// Evaluates a call of a built-in function.
     pub(super) fn call(&mut self, callee: &Ident, args: &[Arg], span: Span) -> Eval<Value> {
+        if let Some(&index) = self.func_index.get(&callee.name) {
+            return self.user_call(index, args, span);
+        }
         self.check_call(callee, args, span)?;
         let mut positional = Vec::new();
         let mut named = Vec::new();

@@ -35,7 +35,12 @@ impl Evaluator {
     ) {
         let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
         if let Some(span) = from {
-            if stack.contains(&key) {
+            if let Some(first) = stack.iter().position(|p| *p == key) {
+                let chain: Vec<String> = stack[first..]
+                    .iter()
+                    .chain(std::iter::once(&key))
+                    .map(|p| short_name(p))
+                    .collect();
                 self.report(
                     Diagnostic::error(
                         "rtlang::include-cycle",
@@ -43,7 +48,8 @@ impl Evaluator {
                         format!("`{}` includes itself", path.display()),
                     )
                     .label("this include closes a cycle")
-                    .help("remove one of the includes in the cycle"),
+                    .help("remove one of the includes in the cycle")
+                    .note(format!("the cycle: {}", chain.join(" includes "))),
                 );
                 return;
             }
@@ -77,14 +83,11 @@ impl Evaluator {
             }
             return;
         }
-        let (ast, problems) = match syntax::parse_file(&text, file) {
-            Ok(parsed) => parsed,
-            Err(d) => {
-                self.report(*d);
-                return;
-            }
-        };
-        self.diagnostics.extend(problems);
+        self.include_chain(file, from);
+        let parsed = syntax::parse_all(&text, file);
+        self.diagnostics.extend(parsed.syntax_errors);
+        self.diagnostics.extend(parsed.problems);
+        let ast = parsed.file;
         stack.push(key.clone());
         seen.push(key);
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -97,6 +100,35 @@ impl Evaluator {
             }
         }
         stack.pop();
+    }
+
+    /// Records which include brought file `file` in, for the notes of its
+    /// diagnostics.
+    fn include_chain(&mut self, file: u32, from: Option<Span>) {
+        if let Some(span) = from {
+            self.included_from.insert(file, span);
+        }
+    }
+
+    /// "`b.rt` is included from a.rt:3" lines, innermost first, for a
+    /// diagnostic in file `file`.
+    pub(super) fn include_notes(&self, mut file: u32) -> Vec<String> {
+        let mut notes = Vec::new();
+        while let Some(span) = self.included_from.get(&file) {
+            let here = self.sources.file(file);
+            let there = self.sources.file(span.file);
+            let (line, _) = there.line_col(span.start as usize);
+            notes.push(format!(
+                "`{}` is included from {}:{line}",
+                short_name(&here.path),
+                there.name
+            ));
+            if notes.len() > MAX_INCLUDE_DEPTH {
+                break;
+            }
+            file = span.file;
+        }
+        notes
     }
 
     /// The text of a source file, or a reported diagnostic.
@@ -126,12 +158,22 @@ impl Evaluator {
         let bytes = match std::fs::read(path) {
             Ok(bytes) => bytes,
             Err(e) => {
+                let help = match near_miss(path) {
+                    Some(s) => format!("did you mean `{s}`?"),
+                    None => {
+                        "check the path; relative paths resolve against the including file"
+                            .to_string()
+                    }
+                };
                 let d = Diagnostic::global(
                     "rtlang::io",
                     format!("cannot read `{}`: {e}", path.display()),
                 )
                 .label("included here")
-                .help("check the path; relative paths resolve against the including file");
+                .help(help);
+                if from.is_some() {
+                    self.include_failed = true;
+                }
                 self.report(located(d));
                 return None;
             }
@@ -170,4 +212,22 @@ impl Evaluator {
             }
         }
     }
+}
+
+/// A path's file name, for short messages.
+fn short_name(path: &Path) -> String {
+    path.file_name()
+        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// A file next to `path` whose name is close to its name.
+fn near_miss(path: &Path) -> Option<String> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+    let entries = std::fs::read_dir(dir.unwrap_or(Path::new("."))).ok()?;
+    let names: Vec<String> = entries
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .collect();
+    let wanted = path.file_name()?.to_str()?;
+    let found = crate::lang::names::suggest(wanted, names.iter().map(String::as_str))?;
+    Some(found.to_string())
 }

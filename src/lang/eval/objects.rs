@@ -32,7 +32,9 @@ impl Evaluator {
     pub(super) fn top_stmt(&mut self, stmt: &Stmt) -> Eval<Option<Node>> {
         match stmt {
             Stmt::Object(o) => self.object(o).map(Some),
-            Stmt::Place { name, body, .. } => self.place(name, body).map(Some),
+            Stmt::Place {
+                name, args, body, ..
+            } => self.place(name, args.as_deref(), body).map(Some),
             Stmt::If {
                 cond,
                 then,
@@ -178,6 +180,14 @@ impl Evaluator {
     }
 
     fn missing(&mut self, o: &Object, name: &str, help: &str) -> Fail {
+        // A misspelt `name` is already reported as an unknown property.
+        let misspelt = o.body.iter().any(|s| {
+            matches!(s, Stmt::Property { name: p, .. }
+                if crate::lang::names::suggest(&p.name, [name]).is_some())
+        });
+        if misspelt {
+            return Fail;
+        }
         self.report(
             Diagnostic::error(
                 "rtlang::missing-property",
@@ -511,9 +521,11 @@ impl Evaluator {
         let mut i = lo;
         let mut failed = false;
         while i < hi {
-            self.locals.push((var.name.clone(), i));
+            self.locals.push((var.name.clone(), Value::Num(i)));
+            self.loops.push((var.name.clone(), i));
             let children = self.children(&block.children);
             let transforms = self.apply_transforms(&block.transforms);
+            self.loops.pop();
             self.locals.pop();
             match (children, transforms) {
                 (Ok(children), Ok(t)) if t.is_identity() => nodes.extend(children),
@@ -532,12 +544,21 @@ impl Evaluator {
     }
 
     /// `place NAME { transforms }`: the defined object, shared as a
-    /// prototype when placed more than once.
-    pub(super) fn place(&mut self, name: &crate::lang::ast::Ident, body: &[Stmt]) -> Eval<Node> {
+    /// prototype when placed more than once; `place NAME(args) { ... }`:
+    /// the object a function call returns.
+    pub(super) fn place(
+        &mut self,
+        name: &crate::lang::ast::Ident,
+        args: Option<&[crate::lang::ast::Arg]>,
+        body: &[Stmt],
+    ) -> Eval<Node> {
         let allow = Allow::transforms_only("place");
         let block = self.block(body, &allow);
         let transforms = self.apply_transforms(&block.transforms);
-        let value = self.lookup(&name.name, name.span)?;
+        let value = match args {
+            Some(args) => self.call(name, args, name.span)?,
+            None => self.lookup(&name.name, name.span)?,
+        };
         let Value::Object(node) = value else {
             return Err(self.report(
                 Diagnostic::error(
@@ -549,7 +570,7 @@ impl Evaluator {
                 .help("`place` takes a name defined as an object, e.g. `let x = sphere { ... }`"),
             ));
         };
-        let index = self.def_index.get(&name.name).copied();
+        let index = args.is_none().then(|| self.def_index.get(&name.name).copied()).flatten();
         let many = self.place_counts.get(&name.name).copied().unwrap_or(0) > 1;
         let placed = match index {
             Some(index) if many => {
