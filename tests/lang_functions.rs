@@ -129,14 +129,14 @@ fn recursion_works_and_its_depth_is_a_diagnostic_not_a_crash() {
         .filter(|d| d.code == "rtlang::too-deep")
         .collect();
     assert_eq!(deep.len(), 1, "{:?}", codes(&outcome));
-    assert!(deep[0].message.contains("function calls nest more than 256 deep"));
+    assert!(deep[0]
+        .message
+        .contains("function calls nest more than 256 deep"));
 }
 
 #[test]
 fn an_error_in_a_body_points_at_the_body_with_a_note_at_the_call() {
-    let text = format!(
-        "{MAT}fn size(x) = x * 2\nsphere {{ radius size(\"big\") material m }}\n"
-    );
+    let text = format!("{MAT}fn size(x) = x * 2\nsphere {{ radius size(\"big\") material m }}\n");
     let outcome = check("body-error", &text);
     let d = outcome
         .diagnostics
@@ -147,7 +147,10 @@ fn an_error_in_a_body_points_at_the_body_with_a_note_at_the_call() {
     let span = d.span.expect("a span");
     assert_eq!(&text[span.start as usize..span.end as usize], "x * 2");
     let (call, label) = &d.related[0];
-    assert_eq!(&text[call.start as usize..call.end as usize], "size(\"big\")");
+    assert_eq!(
+        &text[call.start as usize..call.end as usize],
+        "size(\"big\")"
+    );
     assert_eq!(label, "in this call of `size`");
     let json = d.to_json(&outcome.sources);
     assert_eq!(json["labels"][0]["label"], "in this call of `size`");
@@ -164,7 +167,7 @@ fn call_mistakes_point_at_the_call_with_the_definition() {
              sphere {{ radius f(1, 2, 3) material m }}\n\
              sphere {{ radius f(1, c: 2) material m }}\n\
              sphere {{ radius f(1, a: 2) material m }}\n\
-             sphere {{ radius g(1) material m }}\n"
+             sphere {{ radius ff(1) material m }}\n"
         ),
     );
     assert_eq!(
@@ -177,7 +180,9 @@ fn call_mistakes_point_at_the_call_with_the_definition() {
             "rtlang::unknown-function"
         ]
     );
-    assert!(outcome.diagnostics[0].message.contains("missing the argument `a`"));
+    assert!(outcome.diagnostics[0]
+        .message
+        .contains("missing the argument `a`"));
     assert!(outcome.diagnostics[2]
         .help
         .as_deref()
@@ -228,7 +233,9 @@ fn names_are_checked_like_lets() {
             "rtlang::type"
         ]
     );
-    assert!(outcome.diagnostics[3].message.contains("`h` is a function, not a value"));
+    assert!(outcome.diagnostics[3]
+        .message
+        .contains("`h` is a function, not a value"));
 }
 
 #[test]

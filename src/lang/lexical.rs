@@ -30,9 +30,13 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                 }
                 if i >= bytes.len() || bytes[i] == b'\n' {
                     out.push(
-                        Diagnostic::error("rtlang::syntax", span(start, start + 1), "unterminated string")
-                            .label("this string is never closed")
-                            .help("close it with `\"` on the same line; a string cannot span lines"),
+                        Diagnostic::error(
+                            "rtlang::syntax",
+                            span(start, start + 1),
+                            "unterminated string",
+                        )
+                        .label("this string is never closed")
+                        .help("close it with `\"` on the same line; a string cannot span lines"),
                     );
                 }
             }
@@ -95,7 +99,10 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                             format!("mismatched closing delimiter `{}`", b as char),
                         )
                         .label(format!("expected `{}` here", closer(o) as char))
-                        .related(span(at, at + 1), format!("this `{}` is unclosed", o as char))
+                        .related(
+                            span(at, at + 1),
+                            format!("this `{}` is unclosed", o as char),
+                        )
                         .help(format!(
                             "close the `{}` with `{}` before this `{}`",
                             o as char,
@@ -122,7 +129,8 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
         }
         i += 1;
     }
-    if brackets_ok {
+    // After an unterminated string or comment, bracket errors are echoes.
+    if brackets_ok && out.is_empty() {
         for &(o, at) in &open {
             match suspect {
                 // The unclosed bracket is most likely the inner one whose
@@ -193,7 +201,10 @@ fn hex_error(at: Span, digits: &str) -> Diagnostic {
     let message = if digits.is_empty() {
         "`#` must be followed by a hex colour".to_string()
     } else if digits.bytes().all(|c| c.is_ascii_hexdigit()) {
-        format!("hex colours take 6 digits, `#{digits}` has {}", digits.len())
+        format!(
+            "hex colours take 6 digits, `#{digits}` has {}",
+            digits.len()
+        )
     } else {
         format!("`#{digits}` is not a hex colour")
     };

@@ -145,8 +145,10 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
         let rest = &text[lower.offset..];
         // A batch that fails is parsed again one item at a time, so the
         // items before the error are kept.
-        let parsed = Grammar::parse(Rule::next_items, rest)
-            .or_else(|_| Grammar::parse(Rule::one_item, rest));
+        let parsed = match Grammar::parse(Rule::next_items, rest) {
+            Ok(pairs) => Ok(pairs),
+            Err(_) => Grammar::parse(Rule::one_item, rest),
+        };
         match parsed {
             Ok(mut pairs) => {
                 let batch = pairs.next().map(|p| p.into_inner());
@@ -171,7 +173,9 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
                                 format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
                             )
                             .label("not parsed from here on")
-                            .help("fix the errors above first; later ones are often caused by them"),
+                            .help(
+                                "fix the errors above first; later ones are often caused by them",
+                            ),
                         );
                     }
                     break;
@@ -251,7 +255,12 @@ pub fn parse_expr(text: &str, file: u32) -> Result<Expr, Vec<Diagnostic>> {
 
 /// Turns pest's error into a diagnostic with words a user understands.
 /// `offset` is where the parsed text starts in the file `text`.
-fn syntax_error(error: pest::error::Error<Rule>, text: &str, file: u32, offset: usize) -> Diagnostic {
+fn syntax_error(
+    error: pest::error::Error<Rule>,
+    text: &str,
+    file: u32,
+    offset: usize,
+) -> Diagnostic {
     let (start, end) = match error.location {
         pest::error::InputLocation::Pos(p) => (offset + p, offset + p),
         pest::error::InputLocation::Span((s, e)) => (offset + s, offset + e),
@@ -277,6 +286,54 @@ fn syntax_error(error: pest::error::Error<Rule>, text: &str, file: u32, offset: 
         .help("see docs/language.md for the syntax of each statement")
 }
 
+/// "missing `,`" when the bracket at `at` holds two values separated only
+/// by spaces, as in `(0 1 0)`.
+fn missing_comma(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    let line_end = text[at..].find('\n').map_or(text.len(), |p| at + p);
+    let inner = &text[at + 1..line_end];
+    if inner.trim_start().starts_with("if ") {
+        return None;
+    }
+    let mut depth = 0usize;
+    let mut prev_value_end = None;
+    for (i, c) in inner.char_indices() {
+        match c {
+            '(' | '[' => depth += 1,
+            ')' | ']' if depth == 0 => return None,
+            ')' | ']' => depth -= 1,
+            _ => {}
+        }
+        if depth > 0 && c != ')' && c != ']' {
+            continue;
+        }
+        if c.is_whitespace() {
+            continue;
+        }
+        let starts_value = c.is_ascii_alphanumeric() || c == '(' || c == '"' || c == '#';
+        if let Some(end) = prev_value_end {
+            let gap = &inner[end..i];
+            let word = &inner[i..];
+            let is_op = ["and", "or", "not"].iter().any(|w| word.starts_with(w));
+            if starts_value && !gap.is_empty() && gap.trim().is_empty() && !is_op {
+                let start = at + 1 + end;
+                return Some(
+                    Diagnostic::error(
+                        "rtlang::syntax",
+                        Span::new(file, start, at + 1 + i),
+                        "missing `,` between two values",
+                    )
+                    .label("a comma belongs here")
+                    .help("separate the components of a vector with commas: `(0, 1, 0)`"),
+                );
+            }
+        }
+        prev_value_end =
+            (c.is_ascii_alphanumeric() || c == ')' || c == ']' || c == '"' || c == '_')
+                .then(|| i + c.len_utf8());
+    }
+    None
+}
+
 /// Object keywords, for "did you mean" where a statement starts.
 const OBJECTS: &[&str] = &[
     "sphere", "plane", "rect", "box", "triangle", "mesh", "revolve", "medium", "group", "repeat",
@@ -296,8 +353,10 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
     // The word just before `at` (spaces skipped), if any.
     let before = text[..at].trim_end();
     let prev_start = before
-        .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .map_or(0, |p| p + 1);
+        .char_indices()
+        .rev()
+        .find(|(_, c)| !(c.is_ascii_alphanumeric() || *c == '_'))
+        .map_or(0, |(p, c)| p + c.len_utf8());
     let prev = &before[prev_start..];
     let next_non_space = |i: usize| text[i..].trim_start().bytes().next();
     let c = *bytes.get(at)?;
@@ -329,7 +388,7 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
     }
     let span = Span::new(file, at, at + 1);
     let head = text[..prev_start].trim_end_matches([' ', '\t']);
-    let starts_line = head.is_empty() || head.ends_with('\n');
+    let starts_line = head.is_empty() || head.ends_with(['\n', '{']);
     match c {
         b'=' | b':' if starts_line && !prev.is_empty() && bytes.get(at + 1) != Some(&b'=') => {
             let value = text[at + 1..].lines().next().unwrap_or("").trim();
@@ -350,6 +409,33 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
                 .label("not a separator here")
                 .help("statements and properties are not separated by commas: remove it"),
         ),
+        b'+' | b'*' | b'/' | b'^' => {
+            let dangling = text[at + 1..]
+                .lines()
+                .next()
+                .is_none_or(|l| l.trim().is_empty());
+            let (label, help) = if dangling {
+                (
+                    "nothing follows it on this line",
+                    "finish the expression after the operator on the same line, or remove the operator",
+                )
+            } else {
+                (
+                    "no left operand",
+                    "an expression cannot start with an operator",
+                )
+            };
+            Some(
+                Diagnostic::error(
+                    "rtlang::syntax",
+                    span,
+                    format!("unexpected `{}`", c as char),
+                )
+                .label(label)
+                .help(help),
+            )
+        }
+        b'(' => missing_comma(text, file, at),
         b';' => Some(
             Diagnostic::error("rtlang::syntax", span, "unexpected `;`")
                 .label("not needed")

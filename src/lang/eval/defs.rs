@@ -32,7 +32,10 @@ impl Evaluator {
             if !self.check_new_name(&name.name, name.span) {
                 continue;
             }
-            let first = self.def_index.get(&name.name).map(|&i| self.defs[i].name.span);
+            let first = self
+                .def_index
+                .get(&name.name)
+                .map(|&i| self.defs[i].name.span);
             let first = first.or_else(|| {
                 let i = *self.func_index.get(&name.name)?;
                 Some(self.funcs[i].def.name.span)
@@ -59,6 +62,7 @@ impl Evaluator {
                 used: false,
             });
         }
+        self.mark_fn_mentions();
     }
 
     /// Whether `name` may be defined (not a keyword or predefined name).
@@ -148,7 +152,11 @@ impl Evaluator {
     /// A note for an error at `span` when the text there names a `param`
     /// set by `-D`, so the command line is known to be the cause.
     pub(super) fn define_note(&self, span: Span) -> Option<String> {
-        let text = self.sources.file(span.file).text.get(span.start as usize..span.end as usize)?;
+        let text = self
+            .sources
+            .file(span.file)
+            .text
+            .get(span.start as usize..span.end as usize)?;
         let &index = self.def_index.get(text)?;
         self.defines.contains(&index).then(|| {
             let value = &self.defs[index].value.span;
@@ -292,7 +300,9 @@ impl Evaluator {
         candidates.extend(PREDEFINED);
         let time = matches!(name, "time" | "shutter_time" | "T");
         let help = match names::suggest(name, candidates) {
-            _ if time => "did you mean `t`? inside `motion`, `t` is the time across the shutter".to_string(),
+            _ if time => {
+                "did you mean `t`? inside `motion`, `t` is the time across the shutter".to_string()
+            }
             Some(s) => {
                 let at = self.def_index.get(s).map(|&i| {
                     let span = self.defs[i].name.span;
@@ -375,7 +385,7 @@ impl Evaluator {
             .collect();
         for &i in &unused {
             let def = &self.defs[i];
-            if def.name.name.starts_with('_') {
+            if def.name.name.starts_with('_') || self.syntax_failed {
                 continue;
             }
             let what = match def.kind {
@@ -403,7 +413,9 @@ impl Evaluator {
         let caches = self.caches.clone();
         let default_material = self.default_material;
         self.dry = true;
-        for i in unused {
+        // Every definition not evaluated yet is checked, also one that only
+        // a function body mentions.
+        for i in 0..self.defs.len() {
             if matches!(self.defs[i].state, DefState::Pending) {
                 let span = self.defs[i].name.span;
                 let _ = self.def_value(i, span);

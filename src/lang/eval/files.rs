@@ -85,6 +85,8 @@ impl Evaluator {
         }
         self.include_chain(file, from);
         let parsed = syntax::parse_all(&text, file);
+        // Unused-name warnings would be echoes of the parts that failed.
+        self.syntax_failed |= !parsed.syntax_errors.is_empty();
         self.diagnostics.extend(parsed.syntax_errors);
         self.diagnostics.extend(parsed.problems);
         let ast = parsed.file;
@@ -160,10 +162,8 @@ impl Evaluator {
             Err(e) => {
                 let help = match near_miss(path) {
                     Some(s) => format!("did you mean `{s}`?"),
-                    None => {
-                        "check the path; relative paths resolve against the including file"
-                            .to_string()
-                    }
+                    None => "check the path; relative paths resolve against the including file"
+                        .to_string(),
                 };
                 let d = Diagnostic::global(
                     "rtlang::io",
@@ -216,8 +216,10 @@ impl Evaluator {
 
 /// A path's file name, for short messages.
 fn short_name(path: &Path) -> String {
-    path.file_name()
-        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 /// A file next to `path` whose name is close to its name.

@@ -24,6 +24,8 @@ pub const MAX_CALL_DEPTH: usize = 256;
 pub(super) struct Func {
     pub def: Rc<Function>,
     pub used: bool,
+    /// The names its body and defaults mention.
+    mentions: Vec<String>,
 }
 
 /// The label that marks a call-site note, so nested calls add only the
@@ -52,10 +54,7 @@ impl Evaluator {
                     format!("`{}` is a built-in function", name.name),
                 )
                 .label("already defined by the language")
-                .help(format!(
-                    "choose another name, such as `my_{}`",
-                    name.name
-                )),
+                .help(format!("choose another name, such as `my_{}`", name.name)),
             );
             return;
         }
@@ -101,21 +100,38 @@ impl Evaluator {
         if !ok {
             return;
         }
-        self.warn_unused_params(f);
-        self.func_index.insert(name.name.clone(), self.funcs.len());
-        self.funcs.push(Func {
-            def: Rc::new(f.clone()),
-            used: false,
-        });
-    }
-
-    fn warn_unused_params(&mut self, f: &Function) {
         let mut used = HashSet::new();
         expr_names(&f.body, &mut used);
         for p in &f.params {
             if let Some(d) = &p.default {
                 expr_names(d, &mut used);
             }
+        }
+        self.warn_unused_params(f, &used);
+        let mentions = used.into_iter().map(str::to_string).collect();
+        self.func_index.insert(name.name.clone(), self.funcs.len());
+        self.funcs.push(Func {
+            def: Rc::new(f.clone()),
+            used: false,
+            mentions,
+        });
+    }
+
+    /// Marks the definitions that function bodies mention as used: a
+    /// body that never ran (its call failed) still uses them.
+    pub(super) fn mark_fn_mentions(&mut self) {
+        for f in &self.funcs {
+            for name in &f.mentions {
+                if let Some(&i) = self.def_index.get(name) {
+                    self.defs[i].used = true;
+                }
+            }
+        }
+    }
+
+    fn warn_unused_params(&mut self, f: &Function, used: &HashSet<&str>) {
+        if self.syntax_failed {
+            return;
         }
         for p in &f.params {
             let n = &p.name.name;
@@ -138,7 +154,7 @@ impl Evaluator {
     pub(super) fn warn_unused_fns(&mut self) {
         for i in 0..self.funcs.len() {
             let def = self.funcs[i].def.clone();
-            if self.funcs[i].used || def.name.name.starts_with('_') {
+            if self.funcs[i].used || def.name.name.starts_with('_') || self.syntax_failed {
                 continue;
             }
             self.diagnostics.push(
@@ -318,7 +334,9 @@ impl Evaluator {
             )
             .label("one call too many")
             .related(def.name.span, "defined here")
-            .help("make sure the recursion reaches its base case, e.g. `if n <= 0 then ... else ...`"),
+            .help(
+                "make sure the recursion reaches its base case, e.g. `if n <= 0 then ... else ...`",
+            ),
         ))
     }
 
@@ -334,12 +352,7 @@ impl Evaluator {
     }
 
     /// Calls user function `index` at `span`.
-    pub(super) fn user_call(
-        &mut self,
-        index: usize,
-        args: &[Arg],
-        span: Span,
-    ) -> Eval<Value> {
+    pub(super) fn user_call(&mut self, index: usize, args: &[Arg], span: Span) -> Eval<Value> {
         if !self.dry {
             self.funcs[index].used = true;
         }

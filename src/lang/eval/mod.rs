@@ -104,6 +104,8 @@ pub(crate) struct Evaluator {
     /// User-defined functions and their index by name.
     funcs: Vec<functions::Func>,
     func_index: HashMap<String, usize>,
+    /// Some file had syntax errors: no unused-name warnings.
+    syntax_failed: bool,
     /// Definitions whose value was given by `-D`.
     defines: Vec<usize>,
     /// An include could not be read: names it would have defined are not
@@ -184,6 +186,7 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
         loops: Vec::new(),
         included_from: HashMap::new(),
         include_failed: false,
+        syntax_failed: false,
         defines: Vec::new(),
         sym_locals: Vec::new(),
         def_stack: Vec::new(),

@@ -570,7 +570,10 @@ impl Evaluator {
                 .help("`place` takes a name defined as an object, e.g. `let x = sphere { ... }`"),
             ));
         };
-        let index = args.is_none().then(|| self.def_index.get(&name.name).copied()).flatten();
+        let index = args
+            .is_none()
+            .then(|| self.def_index.get(&name.name).copied())
+            .flatten();
         let many = self.place_counts.get(&name.name).copied().unwrap_or(0) > 1;
         let placed = match index {
             Some(index) if many => {
