@@ -41,3 +41,18 @@ fn assert_examples_clean(doc: &str, min: usize, tag: &str) {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn every_builtin_of_the_table_is_documented() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    for b in rtlang::lang::builtins::TABLE {
+        let named = doc.contains(&format!("`{}", b.name)) || doc.contains(&format!(" {}", b.name));
+        assert!(named, "`{}` is not in docs/language.md", b.name);
+        assert!(
+            !b.doc.is_empty() && b.usage.starts_with(b.name),
+            "{}",
+            b.name
+        );
+        assert!(b.min <= b.max, "{}", b.name);
+    }
+}

@@ -1,0 +1,123 @@
+//! Context a diagnostic carries besides its span: the loop values of an
+//! error inside `repeat`, the `-D` that set a value, the include chain,
+//! near-miss include names, the cap on syntax errors, and the follow-on
+//! errors that are left out.
+
+mod support;
+
+use rtlang::lang::{self, Options};
+use support::scratch;
+
+fn check(dir: &std::path::Path, main: &str, defines: &[(&str, &str)]) -> lang::Outcome {
+    let options = Options {
+        defines: defines
+            .iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect(),
+        ..Options::default()
+    };
+    lang::check(&dir.join(main), &options)
+}
+
+fn errors(outcome: &lang::Outcome) -> Vec<&lang::Diagnostic> {
+    outcome
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .collect()
+}
+
+#[test]
+fn an_error_inside_nested_loops_names_the_loop_values() {
+    let dir = scratch::folder("notes-loops");
+    scratch::write(
+        &dir,
+        "s.rt",
+        "let m = lambertian(rgb(1, 1, 1))\nrepeat i in 0..5 { repeat j in 0..3 {\n  sphere { center (i, j, 0) radius 1 - i * 0.25 material m } } }\n",
+    );
+    let outcome = check(&dir, "s.rt", &[]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 1);
+    assert_eq!(e[0].code, "rtlang::range");
+    assert_eq!(e[0].notes, ["when i = 4, j = 0"]);
+}
+
+#[test]
+fn a_define_that_does_not_parse_is_a_syntax_error_on_its_text() {
+    let dir = scratch::folder("notes-define");
+    scratch::write(
+        &dir,
+        "s.rt",
+        "param c = (0, 0, 0)\nparam r = 1\nparam tex = \"a.png\"\nsphere { center c radius r material lambertian(rgb(1, 1, 1)) }\nlet _t = tex\n",
+    );
+    let outcome = check(&dir, "s.rt", &[("c", "(1,2")]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 1, "{:?}", e);
+    assert_eq!(e[0].code, "rtlang::syntax");
+    let span = e[0].span.expect("a span");
+    assert_eq!(outcome.sources.file(span.file).name, "-D c");
+    assert!(e[0].notes[0].contains("`-D c=…`"));
+    // A value that does not begin like an expression stays a string.
+    let outcome = check(&dir, "s.rt", &[("tex", "../textures/earth.jpg")]);
+    assert!(errors(&outcome).is_empty());
+    // An error at a use of an overridden param notes the `-D`.
+    let outcome = check(&dir, "s.rt", &[("r", "-2")]);
+    let e = errors(&outcome);
+    assert_eq!(e[0].code, "rtlang::range");
+    assert_eq!(e[0].notes, ["`r` is set by `-D r=-2` on the command line"]);
+}
+
+#[test]
+fn includes_note_their_chain_and_suggest_near_names() {
+    let dir = scratch::folder("notes-include");
+    scratch::write(
+        &dir,
+        "a.rt",
+        "include \"b.rt\"\nsphere { radius 1 material m }\n",
+    );
+    scratch::write(&dir, "b.rt", "include \"c.rt\"\n");
+    scratch::write(
+        &dir,
+        "c.rt",
+        "let m = lambertian(rgb(1, 1, 1))\nlet bad = sqrt(-1)\n",
+    );
+    let outcome = check(&dir, "a.rt", &[]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 1);
+    assert_eq!(e[0].code, "rtlang::domain");
+    assert_eq!(e[0].notes.len(), 2, "{:?}", e[0].notes);
+    assert!(e[0].notes[0].starts_with("`c.rt` is included from"));
+    assert!(e[0].notes[1].starts_with("`b.rt` is included from"));
+    // A missing include: a near file name, and no follow-on unknown names.
+    scratch::write(&dir, "materials.rt", "let shiny = metal(rgb(1, 1, 1))\n");
+    scratch::write(
+        &dir,
+        "d.rt",
+        "include \"materails.rt\"\nsphere { radius 1 material shiny }\n",
+    );
+    let outcome = check(&dir, "d.rt", &[]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 1, "{:?}", e);
+    assert_eq!(e[0].code, "rtlang::io");
+    assert_eq!(e[0].help.as_deref(), Some("did you mean `materials.rt`?"));
+}
+
+#[test]
+fn syntax_errors_stop_after_ten_and_a_misspelt_material_is_reported_once() {
+    let dir = scratch::folder("notes-cap");
+    let many = "sphere { radius 1, material lambertian(rgb(1, 1, 1)) }\n".repeat(15);
+    scratch::write(&dir, "s.rt", &many);
+    let outcome = check(&dir, "s.rt", &[]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 11);
+    assert!(e[..10].iter().all(|d| d.message == "unexpected `,`"));
+    assert_eq!(e[10].message, "stopped after 10 syntax errors");
+    scratch::write(
+        &dir,
+        "m.rt",
+        "let m = lambertian(rgb(1, 1, 1))\nsphere { radius 1 materal m }\n",
+    );
+    let outcome = check(&dir, "m.rt", &[]);
+    let codes: Vec<_> = errors(&outcome).iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["rtlang::unknown-property"]);
+}
