@@ -1,6 +1,8 @@
 //! End-to-end evaluation: scene files under `tests/scenes/` → `Scene`,
 //! checked against the values the files spell out.
 
+mod support;
+
 use std::path::Path;
 
 use glam::Vec3;
@@ -20,13 +22,7 @@ fn scene(name: &str, defines: &[(&str, &str)]) -> rtlang::scene::Scene {
 }
 
 fn codes(name: &str, defines: &[(&str, &str)]) -> Vec<&'static str> {
-    let options = Options {
-        defines: defines
-            .iter()
-            .map(|(a, b)| (a.to_string(), b.to_string()))
-            .collect(),
-        ..Options::default()
-    };
+    let options = support::defines::options(defines);
     lang::check(Path::new(&format!("tests/scenes/{name}")), &options)
         .diagnostics
         .iter()

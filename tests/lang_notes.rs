@@ -5,18 +5,11 @@
 
 mod support;
 
-use rtlang::lang::{self, Options};
+use rtlang::lang;
 use support::scratch;
 
 fn check(dir: &std::path::Path, main: &str, defines: &[(&str, &str)]) -> lang::Outcome {
-    let options = Options {
-        defines: defines
-            .iter()
-            .map(|(a, b)| (a.to_string(), b.to_string()))
-            .collect(),
-        ..Options::default()
-    };
-    lang::check(&dir.join(main), &options)
+    lang::check(&dir.join(main), &support::defines::options(defines))
 }
 
 fn errors(outcome: &lang::Outcome) -> Vec<&lang::Diagnostic> {
