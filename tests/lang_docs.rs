@@ -56,3 +56,33 @@ fn every_builtin_of_the_table_is_documented() {
         assert!(b.min <= b.max, "{}", b.name);
     }
 }
+
+/// The list after "Codes are stable:" in the language reference names exactly
+/// the codes of `lang::codes::Code`: none missing, none extra, none twice.
+#[test]
+fn the_reference_lists_exactly_the_diagnostic_codes() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    let start =
+        doc.find("Codes are stable:").expect("the list of codes") + "Codes are stable:".len();
+    let rest = &doc[start..];
+    let open = rest.find('`').expect("the opening backtick") + 1;
+    let close = open + rest[open..].find('`').expect("the closing backtick");
+    let mut listed: Vec<String> = rest[open..close]
+        .split_whitespace()
+        .map(|w| format!("rtlang::{}", w.trim_start_matches("rtlang::")))
+        .collect();
+    let mut codes: Vec<String> = lang::codes::Code::ALL
+        .iter()
+        .map(|c| c.as_str().to_string())
+        .collect();
+    listed.sort();
+    codes.sort();
+    let twice: Vec<_> = listed.windows(2).filter(|w| w[0] == w[1]).collect();
+    assert!(twice.is_empty(), "listed twice: {twice:?}");
+    let missing: Vec<_> = codes.iter().filter(|c| !listed.contains(c)).collect();
+    let extra: Vec<_> = listed.iter().filter(|c| !codes.contains(c)).collect();
+    assert!(
+        missing.is_empty() && extra.is_empty(),
+        "missing from the doc: {missing:?}; not a code: {extra:?}"
+    );
+}

@@ -18,7 +18,11 @@ fn check(name: &str, text: &str) -> lang::Outcome {
 }
 
 fn codes(outcome: &lang::Outcome) -> Vec<&'static str> {
-    outcome.diagnostics.iter().map(|d| d.code).collect()
+    outcome
+        .diagnostics
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect()
 }
 
 fn scene(name: &str, text: &str) -> Scene {
@@ -205,7 +209,7 @@ fn unused_parameters_and_functions_warn() {
     let warnings: Vec<_> = outcome
         .diagnostics
         .iter()
-        .map(|d| (d.code, d.message.as_str()))
+        .map(|d| (d.code.as_str(), d.message.as_str()))
         .collect();
     assert_eq!(
         warnings,

@@ -111,6 +111,6 @@ fn syntax_errors_stop_after_ten_and_a_misspelt_material_is_reported_once() {
         "let m = lambertian(rgb(1, 1, 1))\nsphere { radius 1 materal m }\n",
     );
     let outcome = check(&dir, "m.rt", &[]);
-    let codes: Vec<_> = errors(&outcome).iter().map(|d| d.code).collect();
+    let codes: Vec<_> = errors(&outcome).iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["rtlang::unknown-property"]);
 }

@@ -46,7 +46,7 @@ fn every_wrong_scene_is_reported_at_its_cause() {
                 let (l, c) = f.line_col(s.start as usize);
                 format!("{l}:{c}")
             });
-            (d.code, at.unwrap_or_default())
+            (d.code.as_str(), at.unwrap_or_default())
         });
         checked += 1;
         let right = got.as_ref().map(|(c, p)| (*c, p.as_str())) == Some((code, place));

@@ -6,6 +6,7 @@ use std::fmt;
 use miette::{LabeledSpan, NamedSource, SourceSpan};
 use serde::Serialize;
 
+use super::codes::Code;
 use super::source::{SourceMap, Span};
 
 /// How bad a diagnostic is.
@@ -20,8 +21,8 @@ pub enum Severity {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     pub severity: Severity,
-    /// A stable code such as `rtlang::unknown-name`.
-    pub code: &'static str,
+    /// A stable code; its text is such as `rtlang::unknown-name`.
+    pub code: Code,
     pub message: String,
     /// The main location; `None` for problems outside any file (a bad `-D`).
     pub span: Option<Span>,
@@ -37,7 +38,7 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     /// An error with code `code` at `span`.
-    pub fn error(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+    pub fn error(code: Code, span: Span, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             severity: Severity::Error,
             code,
@@ -51,7 +52,7 @@ impl Diagnostic {
     }
 
     /// A warning with code `code` at `span`.
-    pub fn warning(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+    pub fn warning(code: Code, span: Span, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             severity: Severity::Warning,
             ..Diagnostic::error(code, span, message)
@@ -59,7 +60,7 @@ impl Diagnostic {
     }
 
     /// An error that points at no source text.
-    pub fn global(code: &'static str, message: impl Into<String>) -> Diagnostic {
+    pub fn global(code: Code, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             span: None,
             ..Diagnostic::error(code, Span::default(), message)

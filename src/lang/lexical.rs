@@ -7,6 +7,7 @@
 
 use super::diagnostics::Diagnostic;
 use super::source::Span;
+use crate::lang::codes::Code;
 
 /// Every token-level problem of `text`, in source order.
 pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
@@ -31,7 +32,7 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                 if i >= bytes.len() || bytes[i] == b'\n' {
                     out.push(
                         Diagnostic::error(
-                            "rtlang::syntax",
+                            Code::Syntax,
                             span(start, start + 1),
                             "unterminated string",
                         )
@@ -54,7 +55,7 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                 if i >= bytes.len() {
                     out.push(
                         Diagnostic::error(
-                            "rtlang::syntax",
+                            Code::Syntax,
                             span(start, start + 2),
                             "unterminated block comment",
                         )
@@ -94,7 +95,7 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                 Some((o, at)) => {
                     out.push(
                         Diagnostic::error(
-                            "rtlang::syntax",
+                            Code::Syntax,
                             span(i, i + 1),
                             format!("mismatched closing delimiter `{}`", b as char),
                         )
@@ -115,7 +116,7 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                 None => {
                     out.push(
                         Diagnostic::error(
-                            "rtlang::syntax",
+                            Code::Syntax,
                             span(i, i + 1),
                             format!("unexpected closing delimiter `{}`", b as char),
                         )
@@ -189,7 +190,7 @@ fn suffix_error(text: &str, at: Span, number: &str) -> Diagnostic {
         _ => format!("numbers take no suffix: write `{number}`"),
     };
     Diagnostic::error(
-        "rtlang::syntax",
+        Code::Syntax,
         at,
         format!("invalid suffix `{suffix}` on the number `{number}`"),
     )
@@ -215,7 +216,7 @@ fn hex_error(at: Span, digits: &str) -> Diagnostic {
         }
         _ => "hex colours take 6 digits, as in `#ffcc00`".to_string(),
     };
-    Diagnostic::error("rtlang::syntax", at, message)
+    Diagnostic::error(Code::Syntax, at, message)
         .label("not `#rrggbb`")
         .help(help)
 }
@@ -241,7 +242,7 @@ fn unclosed(text: &str, file: u32, open: u8, at: usize) -> Diagnostic {
     let c = closer(open) as char;
     let o = open as char;
     let d = Diagnostic::error(
-        "rtlang::syntax",
+        Code::Syntax,
         Span::new(file, at, at + 1),
         format!("unclosed `{o}`"),
     )

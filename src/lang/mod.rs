@@ -7,6 +7,7 @@
 
 pub mod ast;
 pub mod builtins;
+pub mod codes;
 pub mod diagnostics;
 mod eval;
 pub mod expr;
@@ -17,6 +18,7 @@ pub mod scan;
 pub mod source;
 pub mod syntax;
 
+use crate::lang::codes::Code;
 use std::path::Path;
 
 use crate::scene::Scene;
@@ -81,11 +83,8 @@ pub fn parse_to_canonical(path: &Path) -> Result<String, (Vec<Diagnostic>, Sourc
     let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
         Err(e) => {
-            let d = Diagnostic::global(
-                "rtlang::io",
-                format!("cannot read `{}`: {e}", path.display()),
-            )
-            .help("check the path");
+            let d = Diagnostic::global(Code::Io, format!("cannot read `{}`: {e}", path.display()))
+                .help("check the path");
             return Err((vec![d], sources));
         }
     };

@@ -5,6 +5,7 @@
 
 use super::diagnostics::Diagnostic;
 use super::source::Span;
+use crate::lang::codes::Code;
 
 /// Deepest bracket nesting accepted in a file.
 pub const MAX_NESTING: usize = 64;
@@ -81,7 +82,7 @@ pub fn check(text: &str, file: u32, pieces: usize) -> Result<Vec<usize>, Box<Dia
                 depth += 1;
                 if depth > MAX_NESTING {
                     return Err(Diagnostic::error(
-                        "rtlang::too-deep",
+                        Code::TooDeep,
                         Span::new(file, i, i + 1),
                         format!("brackets nest more than {MAX_NESTING} deep"),
                     )
@@ -106,7 +107,7 @@ pub fn check(text: &str, file: u32, pieces: usize) -> Result<Vec<usize>, Box<Dia
         }
         if pow_run > MAX_EXPR_DEPTH || neg_run > MAX_EXPR_DEPTH {
             return Err(Diagnostic::error(
-                "rtlang::too-deep",
+                Code::TooDeep,
                 Span::new(file, i, i + 1),
                 format!("more than {MAX_EXPR_DEPTH} chained `^` or `-` operators"),
             )

@@ -1,6 +1,7 @@
 //! Parsing: source text → [`ast::File`] with byte spans, through the pest
 //! grammar in `grammar/rtlang.pest`, after the limits of [`scan`].
 
+use crate::lang::codes::Code;
 use std::sync::LazyLock;
 
 use pest::iterators::{Pair, Pairs};
@@ -168,7 +169,7 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
                     if let Some(resume) = resume {
                         errors.push(
                             Diagnostic::error(
-                                "rtlang::syntax",
+                                Code::Syntax,
                                 Span::new(file, resume, resume),
                                 format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
                             )
@@ -281,7 +282,7 @@ fn syntax_error(
         pest::error::ErrorVariant::ParsingError { .. } => "unexpected input".to_string(),
         pest::error::ErrorVariant::CustomError { message } => message.clone(),
     };
-    Diagnostic::error("rtlang::syntax", Span::new(file, start, end), message)
+    Diagnostic::error(Code::Syntax, Span::new(file, start, end), message)
         .label("here")
         .help("see docs/language.md for the syntax of each statement")
 }
@@ -318,7 +319,7 @@ fn missing_comma(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
                 let start = at + 1 + end;
                 return Some(
                     Diagnostic::error(
-                        "rtlang::syntax",
+                        Code::Syntax,
                         Span::new(file, start, at + 1 + i),
                         "missing `,` between two values",
                     )
@@ -377,7 +378,7 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
             };
             return Some(
                 Diagnostic::error(
-                    "rtlang::syntax",
+                    Code::Syntax,
                     Span::new(file, ws, we),
                     format!("unknown object `{w}`"),
                 )
@@ -394,7 +395,7 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
             let value = text[at + 1..].lines().next().unwrap_or("").trim();
             Some(
                 Diagnostic::error(
-                    "rtlang::syntax",
+                    Code::Syntax,
                     span,
                     format!("unexpected `{}` after `{prev}`", c as char),
                 )
@@ -405,7 +406,7 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
             )
         }
         b',' => Some(
-            Diagnostic::error("rtlang::syntax", span, "unexpected `,`")
+            Diagnostic::error(Code::Syntax, span, "unexpected `,`")
                 .label("not a separator here")
                 .help("statements and properties are not separated by commas: remove it"),
         ),
@@ -426,18 +427,14 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
                 )
             };
             Some(
-                Diagnostic::error(
-                    "rtlang::syntax",
-                    span,
-                    format!("unexpected `{}`", c as char),
-                )
-                .label(label)
-                .help(help),
+                Diagnostic::error(Code::Syntax, span, format!("unexpected `{}`", c as char))
+                    .label(label)
+                    .help(help),
             )
         }
         b'(' => missing_comma(text, file, at),
         b';' => Some(
-            Diagnostic::error("rtlang::syntax", span, "unexpected `;`")
+            Diagnostic::error(Code::Syntax, span, "unexpected `;`")
                 .label("not needed")
                 .help("statements end at the end of their value: remove it"),
         ),
@@ -888,7 +885,7 @@ impl Lower {
                 Ok(v) if v.is_finite() => ExprKind::Number(v),
                 _ => {
                     self.diagnostics.push(
-                        Diagnostic::error("rtlang::number", span, "number out of range")
+                        Diagnostic::error(Code::Number, span, "number out of range")
                             .label("not a finite number")
                             .help("numbers must fit in a 64-bit float"),
                     );
@@ -952,7 +949,7 @@ impl Lower {
                     let end = start + 1 + other.map_or(0, |(_, c)| c.len_utf8());
                     self.diagnostics.push(
                         Diagnostic::error(
-                            "rtlang::bad-escape",
+                            Code::BadEscape,
                             Span::new(self.file, start, end),
                             "unknown escape in string",
                         )
@@ -983,7 +980,7 @@ fn bounded(
     if deepest + 1 > MAX_EXPR_DEPTH {
         diagnostics.borrow_mut().push(
             Diagnostic::error(
-                "rtlang::too-deep",
+                Code::TooDeep,
                 span,
                 format!("expression is more than {MAX_EXPR_DEPTH} operators deep"),
             )

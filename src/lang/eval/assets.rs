@@ -1,6 +1,7 @@
 //! Files a scene refers to: image textures and OBJ meshes, loaded only when
 //! used, once per path, with the path tried in every error.
 
+use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -35,7 +36,7 @@ impl Evaluator {
         }
         Err(self.report(
             Diagnostic::error(
-                "rtlang::file-type",
+                Code::FileType,
                 span,
                 format!("`{}` is not a supported {what} file", path.display()),
             )
@@ -61,7 +62,7 @@ impl Evaluator {
                 Ok(id)
             }
             Err(e) => Err(self.report(
-                Diagnostic::error("rtlang::io", span, e.to_string())
+                Diagnostic::error(Code::Io, span, e.to_string())
                     .label("image used here")
                     .help("relative paths resolve against the directory of the scene file"),
             )),
@@ -83,7 +84,7 @@ impl Evaluator {
             Ok(loaded) => loaded,
             Err(e) => {
                 return Err(self.report(
-                    Diagnostic::error("rtlang::mesh", span, e.to_string())
+                    Diagnostic::error(Code::Mesh, span, e.to_string())
                         .label("mesh used here")
                         .help("relative paths resolve against the directory of the scene file"),
                 ))
@@ -91,7 +92,7 @@ impl Evaluator {
         };
         for warning in loaded.warnings {
             self.diagnostics.push(
-                Diagnostic::warning("rtlang::mesh-warning", span, warning)
+                Diagnostic::warning(Code::MeshWarning, span, warning)
                     .label("in this mesh")
                     .help("the mesh loads with a fallback for what is missing"),
             );
@@ -158,7 +159,7 @@ impl Evaluator {
             Err(e) => {
                 self.diagnostics.push(
                     Diagnostic::warning(
-                        "rtlang::mesh-warning",
+                        Code::MeshWarning,
                         span,
                         format!("{e}; using the material's colour"),
                     )

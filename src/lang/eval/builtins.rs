@@ -2,6 +2,7 @@
 //! [`crate::lang::builtins::TABLE`] before the call, then numeric
 //! functions, colours, textures and materials.
 
+use crate::lang::codes::Code;
 use std::rc::Rc;
 
 use glam::DVec3;
@@ -48,7 +49,7 @@ impl Evaluator {
             };
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::unknown-function",
+                    Code::UnknownFunction,
                     callee.span,
                     format!("no function named `{}`", callee.name),
                 )
@@ -66,7 +67,7 @@ impl Evaluator {
             };
             self.report(
                 Diagnostic::error(
-                    "rtlang::arity",
+                    Code::Arity,
                     span,
                     format!(
                         "`{}` takes {want} positional argument{}, {positional} given",
@@ -86,7 +87,7 @@ impl Evaluator {
                 None if seen_named => {
                     self.report(
                         Diagnostic::error(
-                            "rtlang::argument-order",
+                            Code::ArgumentOrder,
                             arg.value.span,
                             "a positional argument after a keyword argument",
                         )
@@ -105,7 +106,7 @@ impl Evaluator {
                         };
                         self.report(
                             Diagnostic::error(
-                                "rtlang::unknown-argument",
+                                Code::UnknownArgument,
                                 name.span,
                                 format!("`{}` has no argument named `{}`", callee.name, name.name),
                             )
@@ -116,7 +117,7 @@ impl Evaluator {
                     } else if names_seen.contains(&name.name.as_str()) {
                         self.report(
                             Diagnostic::error(
-                                "rtlang::duplicate",
+                                Code::Duplicate,
                                 name.span,
                                 format!("argument `{}` given twice", name.name),
                             )
@@ -233,7 +234,7 @@ impl Evaluator {
         let Value::List(items) = list else {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("expected a list of keys, found {}", list.type_name()),
                 )
@@ -248,7 +249,7 @@ impl Evaluator {
         if keys.is_empty() || !sorted {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     "keyframe times must be strictly increasing, with at least one key",
                 )
@@ -265,7 +266,7 @@ impl Evaluator {
         } else {
             Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     format!("{what} must be positive, not {x}"),
                 )
@@ -344,7 +345,7 @@ impl Evaluator {
                 if !(0.0..=1.0).contains(&fuzz) {
                     return Err(self.report(
                         Diagnostic::error(
-                            "rtlang::range",
+                            Code::Range,
                             fs,
                             format!("fuzz must be in [0, 1], not {fuzz}"),
                         )
@@ -396,7 +397,7 @@ impl Evaluator {
         if pts.len() < 2 {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     format!(
                         "a Bézier curve needs at least 2 control points, found {}",
@@ -410,7 +411,7 @@ impl Evaluator {
         if pts.iter().all(|p| *p == pts[0]) {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::degenerate",
+                    Code::Degenerate,
                     span,
                     "all control points of the curve coincide",
                 )

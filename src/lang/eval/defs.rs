@@ -2,6 +2,7 @@
 //! order-independent lazy evaluation with cycle detection, name lookup with
 //! suggestions, and the unused-definition warnings.
 
+use crate::lang::codes::Code;
 use std::sync::Arc;
 
 use super::value::Value;
@@ -43,7 +44,7 @@ impl Evaluator {
             if let Some(first_span) = first {
                 self.report(
                     Diagnostic::error(
-                        "rtlang::duplicate",
+                        Code::Duplicate,
                         name.span,
                         format!("`{}` is defined twice", name.name),
                     )
@@ -75,7 +76,7 @@ impl Evaluator {
             };
             self.report(
                 Diagnostic::error(
-                    "rtlang::keyword-name",
+                    Code::KeywordName,
                     span,
                     format!("`{name}` is {what} and cannot be defined"),
                 )
@@ -100,7 +101,7 @@ impl Evaluator {
                 };
                 self.report(
                     Diagnostic::global(
-                        "rtlang::unknown-define",
+                        Code::UnknownDefine,
                         format!("`-D {name}=…` names no `param` of the scene"),
                     )
                     .help(help),
@@ -111,7 +112,7 @@ impl Evaluator {
                 let span = self.defs[index].name.span;
                 self.report(
                     Diagnostic::error(
-                        "rtlang::unknown-define",
+                        Code::UnknownDefine,
                         span,
                         format!("`-D {name}=…` names a `let`, not a `param`"),
                     )
@@ -234,14 +235,14 @@ impl Evaluator {
                 let def = &self.defs[self.def_stack[self.def_stack.len() - 1]];
                 let n = def.name.name.clone();
                 return Err(self.report(
-                    Diagnostic::error("rtlang::time-outside-motion", span, format!("`t` is used in the definition of `{n}`"))
+                    Diagnostic::error(Code::TimeOutsideMotion, span, format!("`t` is used in the definition of `{n}`"))
                         .label("the shutter time is not known here")
                         .help(format!("a definition has one value, but `t` varies: write the expression inside the `motion` block, or make `{n}` a function of the time, e.g. `fn {n}(at) = ...` used as `{n}(t)`")),
                 ))
             }
             "t" => {
                 return Err(self.report(
-                    Diagnostic::error("rtlang::time-outside-motion", span, "`t` is only defined inside `motion` blocks")
+                    Diagnostic::error(Code::TimeOutsideMotion, span, "`t` is only defined inside `motion` blocks")
                         .label("the shutter time is not known here")
                         .help("move this transform into a `motion { ... }` block, or use `frame` for animations"),
                 ))
@@ -251,7 +252,7 @@ impl Evaluator {
         if self.sym_locals.iter().any(|(n, _)| n == name) {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("`{name}` depends on `t` here, and this is not arithmetic"),
                 )
@@ -270,7 +271,7 @@ impl Evaluator {
         if super::builtins::is_function(name) || self.func_index.contains_key(name) {
             return self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("`{name}` is a function, not a value"),
                 )
@@ -283,7 +284,7 @@ impl Evaluator {
         if names::is_keyword(name) {
             return self.report(
                 Diagnostic::error(
-                    "rtlang::keyword-name",
+                    Code::KeywordName,
                     span,
                     format!("`{name}` is a keyword, not a value"),
                 )
@@ -317,7 +318,7 @@ impl Evaluator {
         };
         self.report(
             Diagnostic::error(
-                "rtlang::unknown-name",
+                Code::UnknownName,
                 span,
                 format!("no definition named `{name}`"),
             )
@@ -340,7 +341,7 @@ impl Evaluator {
                 self.defs[index].state = DefState::Failed;
                 return Err(self.report(
                     Diagnostic::error(
-                        "rtlang::cycle",
+                        Code::Cycle,
                         span,
                         format!("`{name}` is defined in terms of itself"),
                     )
@@ -354,7 +355,7 @@ impl Evaluator {
         if self.def_stack.len() >= MAX_DEF_DEPTH {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::too-deep",
+                    Code::TooDeep,
                     span,
                     format!("definitions refer to definitions more than {MAX_DEF_DEPTH} deep"),
                 )
@@ -393,7 +394,7 @@ impl Evaluator {
                 DefKind::Param => "parameter",
             };
             let d = Diagnostic::warning(
-                "rtlang::unused",
+                Code::Unused,
                 def.name.span,
                 format!("unused {what} `{}`", def.name.name),
             )

@@ -1,6 +1,7 @@
 //! Reading scene files: size, encoding and emptiness checks, parsing, and
 //! splicing `include`d files in place (each file once; cycles are errors).
 
+use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -43,7 +44,7 @@ impl Evaluator {
                     .collect();
                 self.report(
                     Diagnostic::error(
-                        "rtlang::include-cycle",
+                        Code::IncludeCycle,
                         span,
                         format!("`{}` includes itself", path.display()),
                     )
@@ -56,7 +57,7 @@ impl Evaluator {
             if stack.len() >= MAX_INCLUDE_DEPTH {
                 self.report(
                     Diagnostic::error(
-                        "rtlang::too-deep",
+                        Code::TooDeep,
                         span,
                         format!("includes nest more than {MAX_INCLUDE_DEPTH} deep"),
                     )
@@ -76,7 +77,7 @@ impl Evaluator {
             .add(path, path.display().to_string(), text.clone());
         if text.trim().is_empty() {
             let span = Span::new(file, 0, 0);
-            let d = Diagnostic::error("rtlang::empty-file", span, "the scene file is empty")
+            let d = Diagnostic::error(Code::EmptyFile, span, "the scene file is empty")
                 .help("a scene needs at least one object; see docs/language.md");
             if from.is_none() {
                 self.report(d);
@@ -145,7 +146,7 @@ impl Evaluator {
         let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
         if size > MAX_FILE_BYTES {
             let d = Diagnostic::global(
-                "rtlang::file-too-large",
+                Code::FileTooLarge,
                 format!(
                     "`{}` is {:.1} MiB, more than the {} MiB a scene file may have",
                     path.display(),
@@ -165,12 +166,10 @@ impl Evaluator {
                     None => "check the path; relative paths resolve against the including file"
                         .to_string(),
                 };
-                let d = Diagnostic::global(
-                    "rtlang::io",
-                    format!("cannot read `{}`: {e}", path.display()),
-                )
-                .label("included here")
-                .help(help);
+                let d =
+                    Diagnostic::global(Code::Io, format!("cannot read `{}`: {e}", path.display()))
+                        .label("included here")
+                        .help(help);
                 if from.is_some() {
                     self.include_failed = true;
                 }
@@ -184,7 +183,7 @@ impl Evaluator {
             let file = self.sources.add(path, path.display().to_string(), lossy);
             self.report(
                 Diagnostic::error(
-                    "rtlang::binary-file",
+                    Code::BinaryFile,
                     Span::new(file, nul, nul + 1),
                     format!("`{}` is a binary file, not a scene", path.display()),
                 )
@@ -201,7 +200,7 @@ impl Evaluator {
                 let file = self.sources.add(path, path.display().to_string(), lossy);
                 self.report(
                     Diagnostic::error(
-                        "rtlang::not-utf8",
+                        Code::NotUtf8,
                         Span::new(file, at, at + '\u{fffd}'.len_utf8()),
                         format!("`{}` is not valid UTF-8", path.display()),
                     )

@@ -4,6 +4,7 @@
 //! top-level definitions, never the caller's loop variables), the recursion
 //! limit, and the unused-parameter and unused-function warnings.
 
+use crate::lang::codes::Code;
 use std::collections::HashSet;
 use std::rc::Rc;
 
@@ -49,7 +50,7 @@ impl Evaluator {
         if super::builtins::is_function(&name.name) {
             self.report(
                 Diagnostic::error(
-                    "rtlang::duplicate",
+                    Code::Duplicate,
                     name.span,
                     format!("`{}` is a built-in function", name.name),
                 )
@@ -70,7 +71,7 @@ impl Evaluator {
         if let Some(first_span) = first {
             self.report(
                 Diagnostic::error(
-                    "rtlang::duplicate",
+                    Code::Duplicate,
                     name.span,
                     format!("`{}` is defined twice", name.name),
                 )
@@ -86,7 +87,7 @@ impl Evaluator {
             if let Some(first) = f.params[..i].iter().find(|q| q.name.name == p.name.name) {
                 self.report(
                     Diagnostic::error(
-                        "rtlang::duplicate",
+                        Code::Duplicate,
                         p.name.span,
                         format!("parameter `{}` is declared twice", p.name.name),
                     )
@@ -140,7 +141,7 @@ impl Evaluator {
             }
             self.diagnostics.push(
                 Diagnostic::warning(
-                    "rtlang::unused",
+                    Code::Unused,
                     p.name.span,
                     format!("unused parameter `{n}` of `{}`", f.name.name),
                 )
@@ -159,7 +160,7 @@ impl Evaluator {
             }
             self.diagnostics.push(
                 Diagnostic::warning(
-                    "rtlang::unused",
+                    Code::Unused,
                     def.name.span,
                     format!("unused function `{}`", def.name.name),
                 )
@@ -202,7 +203,7 @@ impl Evaluator {
                 None if seen_named => {
                     self.report(
                         Diagnostic::error(
-                            "rtlang::argument-order",
+                            Code::ArgumentOrder,
                             arg.value.span,
                             "a positional argument after a keyword argument",
                         )
@@ -216,7 +217,7 @@ impl Evaluator {
                     if position > bound.len() {
                         self.report(
                             Diagnostic::error(
-                                "rtlang::arity",
+                                Code::Arity,
                                 arg.value.span,
                                 format!(
                                     "`{fname}` takes {} argument{}, {} given",
@@ -240,7 +241,7 @@ impl Evaluator {
                         Some(i) if given[i] => {
                             self.report(
                                 Diagnostic::error(
-                                    "rtlang::duplicate",
+                                    Code::Duplicate,
                                     name.span,
                                     format!("argument `{}` given twice", name.name),
                                 )
@@ -258,7 +259,7 @@ impl Evaluator {
                             };
                             self.report(
                                 Diagnostic::error(
-                                    "rtlang::unknown-argument",
+                                    Code::UnknownArgument,
                                     name.span,
                                     format!("`{fname}` has no parameter named `{}`", name.name),
                                 )
@@ -298,7 +299,7 @@ impl Evaluator {
                 .join(", ");
             self.report(
                 Diagnostic::error(
-                    "rtlang::arity",
+                    Code::Arity,
                     span,
                     format!(
                         "`{fname}` is missing the argument{} {list}",
@@ -325,7 +326,7 @@ impl Evaluator {
         }
         Err(self.report(
             Diagnostic::error(
-                "rtlang::too-deep",
+                Code::TooDeep,
                 span,
                 format!(
                     "function calls nest more than {MAX_CALL_DEPTH} deep (calling `{}`)",

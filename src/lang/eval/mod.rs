@@ -19,6 +19,7 @@ mod settings;
 mod transforms;
 mod value;
 
+use crate::lang::codes::Code;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -278,14 +279,10 @@ impl Evaluator {
 
     fn duplicate_block(&mut self, what: &str, span: Span, first: Span) {
         self.report(
-            Diagnostic::error(
-                "rtlang::duplicate",
-                span,
-                format!("a second `{what}` block"),
-            )
-            .label("second one here")
-            .related(first, "first one here")
-            .help(format!("merge the two `{what}` blocks into one")),
+            Diagnostic::error(Code::Duplicate, span, format!("a second `{what}` block"))
+                .label("second one here")
+                .related(first, "first one here")
+                .help(format!("merge the two `{what}` blocks into one")),
         );
     }
 

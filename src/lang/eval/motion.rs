@@ -7,6 +7,7 @@ use super::props::Allow;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Arg, BinOp, Expr, ExprKind, Stmt, TransformKind};
+use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::expr::Sym;
 use crate::lang::source::Span;
@@ -33,7 +34,7 @@ impl Evaluator {
                 };
                 self.report(
                     Diagnostic::error(
-                        "rtlang::misplaced",
+                        Code::Misplaced,
                         *span,
                         "a motion block inside a motion block",
                     )
@@ -98,7 +99,7 @@ impl Evaluator {
 
     fn sym_type(&mut self, span: Span, want: &str) -> Fail {
         self.report(
-            Diagnostic::error("rtlang::type", span, format!("expected {want} here"))
+            Diagnostic::error(Code::Type, span, format!("expected {want} here"))
                 .label("wrong type")
                 .help("motion transforms take the same arguments as static ones, as expressions of `t`"),
         )
@@ -174,7 +175,7 @@ impl Evaluator {
         let scalar = |ev: &mut Evaluator, x: Sym, y: Sym| -> Eval<Sym> {
             if op == BinOp::Div && y.constant() == Some(0.0) {
                 return Err(ev.report(
-                    Diagnostic::error("rtlang::division-by-zero", rhs, "division by zero")
+                    Diagnostic::error(Code::DivisionByZero, rhs, "division by zero")
                         .label("this is zero")
                         .help("the divisor must not be 0"),
                 ));
@@ -202,13 +203,9 @@ impl Evaluator {
                     .collect(),
             )),
             _ => Err(self.report(
-                Diagnostic::error(
-                    "rtlang::type",
-                    span,
-                    "these operands do not fit this operator",
-                )
-                .label("wrong types")
-                .help("arithmetic works on numbers, and on vectors with vectors or numbers"),
+                Diagnostic::error(Code::Type, span, "these operands do not fit this operator")
+                    .label("wrong types")
+                    .help("arithmetic works on numbers, and on vectors with vectors or numbers"),
             )),
         }
     }

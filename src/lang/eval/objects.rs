@@ -2,6 +2,7 @@
 //! surfaces of revolution, media, groups, loops and placements of defined
 //! objects (as shared prototypes when placed more than once).
 
+use crate::lang::codes::Code;
 use glam::{DVec2, DVec3};
 
 use super::props::{Allow, Block};
@@ -53,7 +54,7 @@ impl Evaluator {
                     }
                 };
                 Err(self.report(
-                    Diagnostic::error("rtlang::misplaced", span, "this belongs inside a block")
+                    Diagnostic::error(Code::Misplaced, span, "this belongs inside a block")
                         .label("not allowed at top level")
                         .help("properties and transforms go inside an object, `render` or `camera` block"),
                 ))
@@ -190,7 +191,7 @@ impl Evaluator {
         }
         self.report(
             Diagnostic::error(
-                "rtlang::missing-property",
+                Code::MissingProperty,
                 o.head,
                 format!("this object needs a `{name}`"),
             )
@@ -237,7 +238,7 @@ impl Evaluator {
             (Some(_), Some((_, s))) => {
                 return Err(self.report(
                     Diagnostic::error(
-                        "rtlang::conflict",
+                        Code::Conflict,
                         s,
                         "a plane takes `point` or `offset`, not both",
                     )
@@ -356,7 +357,7 @@ impl Evaluator {
             Ok(Value::Curve(c)) => Ok(c),
             Ok(other) => Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     curve.span,
                     format!("expected a curve, found {}", other.type_name()),
                 )
@@ -420,13 +421,9 @@ impl Evaluator {
             "mesh" => Ok(false),
             "analytic" => Ok(true),
             _ => Err(self.report(
-                Diagnostic::error(
-                    "rtlang::unknown-name",
-                    e.span,
-                    format!("unknown mode `{word}`"),
-                )
-                .label("not a mode")
-                .help("the mode is `mesh` or `analytic`"),
+                Diagnostic::error(Code::UnknownName, e.span, format!("unknown mode `{word}`"))
+                    .label("not a mode")
+                    .help("the mode is `mesh` or `analytic`"),
             )),
         }
     }
@@ -437,7 +434,7 @@ impl Evaluator {
             Ok(Some((Value::Object(node), _))) => Ok((*node).clone()),
             Ok(Some((other, s))) => Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     s,
                     format!("expected an object, found {}", other.type_name()),
                 )
@@ -562,7 +559,7 @@ impl Evaluator {
         let Value::Object(node) = value else {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     name.span,
                     format!("`{}` is {}, not an object", name.name, value.type_name()),
                 )

@@ -3,6 +3,7 @@
 //! check), transforms in order, child objects, and the `size` / `shutter`
 //! forms, with typed property getters.
 
+use crate::lang::codes::Code;
 use glam::{DVec2, DVec3};
 
 use super::value::Value;
@@ -75,7 +76,7 @@ impl Evaluator {
                         let first = first.span;
                         self.report(
                             Diagnostic::error(
-                                "rtlang::duplicate",
+                                Code::Duplicate,
                                 name.span,
                                 format!("`{}` is given twice", name.name),
                             )
@@ -121,7 +122,7 @@ impl Evaluator {
         };
         self.report(
             Diagnostic::error(
-                "rtlang::unknown-property",
+                Code::UnknownProperty,
                 name.span,
                 format!("`{}` has no property `{}`", allow.what, name.name),
             )
@@ -146,12 +147,12 @@ impl Evaluator {
             && ((allow.size && matches!(stmt, Stmt::Size { .. }))
                 || (allow.shutter && matches!(stmt, Stmt::Shutter { .. })));
         let d = if twice {
-            Diagnostic::error("rtlang::duplicate", span, format!("{what} is given twice"))
+            Diagnostic::error(Code::Duplicate, span, format!("{what} is given twice"))
                 .label("second time")
                 .help("give each property once")
         } else {
             Diagnostic::error(
-                "rtlang::misplaced",
+                Code::Misplaced,
                 span,
                 format!("{what} cannot appear in `{}`", allow.what),
             )
@@ -225,7 +226,7 @@ impl Evaluator {
             Ok(())
         } else {
             Err(self.report(
-                Diagnostic::error("rtlang::range", span, message)
+                Diagnostic::error(Code::Range, span, message)
                     .label("out of range")
                     .help(help.to_string()),
             ))

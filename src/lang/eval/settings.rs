@@ -6,6 +6,7 @@ use super::props::Allow;
 use super::value::Value;
 use super::{Eval, Evaluator};
 use crate::lang::ast::{Item, Stmt};
+use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::scene::Background;
 
@@ -248,14 +249,10 @@ impl Evaluator {
         let span = self.size_span;
         if bytes > MAX_PIXEL_BYTES {
             let d = match span {
-                Some(span) => Diagnostic::error(
-                    "rtlang::too-large",
-                    span,
-                    "the image would not fit in memory",
-                ),
-                None => {
-                    Diagnostic::global("rtlang::too-large", "the image would not fit in memory")
+                Some(span) => {
+                    Diagnostic::error(Code::TooLarge, span, "the image would not fit in memory")
                 }
+                None => Diagnostic::global(Code::TooLarge, "the image would not fit in memory"),
             };
             self.report(
                 d.label(format!(
@@ -273,8 +270,8 @@ impl Evaluator {
                 "{samples:.2e} samples in total is more than the {MAX_SAMPLES:.0e} allowed"
             );
             let d = match span {
-                Some(span) => Diagnostic::error("rtlang::too-large", span, message),
-                None => Diagnostic::global("rtlang::too-large", message),
+                Some(span) => Diagnostic::error(Code::TooLarge, span, message),
+                None => Diagnostic::global(Code::TooLarge, message),
             };
             self.report(
                 d.label("too many samples")
