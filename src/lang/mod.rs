@@ -14,6 +14,7 @@ pub mod expr;
 pub mod lexical;
 pub mod names;
 pub mod pretty;
+pub mod properties;
 pub mod scan;
 pub mod source;
 pub mod syntax;

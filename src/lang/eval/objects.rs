@@ -10,6 +10,7 @@ use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Object, ObjectKind, RectPlane, Stmt};
 use crate::lang::diagnostics::Diagnostic;
+use crate::lang::properties;
 use crate::lang::source::Span;
 use crate::scene::object::{RectPlane as Plane, RevolutionMode};
 use crate::scene::{MaterialId, Node, Shape};
@@ -17,12 +18,13 @@ use crate::scene::{MaterialId, Node, Shape};
 /// The most loop iterations one `repeat` may run.
 const MAX_ITERATIONS: f64 = 10_000_000.0;
 
-const fn allow(what: &'static str, props: &'static [&'static str], children: bool) -> Allow {
+/// A block that takes no property, only transforms and objects.
+fn holder(what: &'static str) -> Allow {
     Allow {
         what,
-        props,
+        props: &[],
         transforms: true,
-        children,
+        children: true,
         size: false,
         shutter: false,
     }
@@ -66,55 +68,39 @@ impl Evaluator {
     pub(super) fn object(&mut self, o: &Object) -> Eval<Node> {
         let (node, block) = match &o.kind {
             ObjectKind::Sphere => {
-                let b = self.block(
-                    &o.body,
-                    &allow("sphere", &["center", "radius", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::SPHERE, true));
                 (self.sphere(&b, o), b)
             }
             ObjectKind::Plane => {
-                let b = self.block(
-                    &o.body,
-                    &allow("plane", &["point", "offset", "normal", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::PLANE, true));
                 (self.plane(&b, o), b)
             }
             ObjectKind::Rect(plane) => {
-                let b = self.block(
-                    &o.body,
-                    &allow("rect", &["from", "to", "at", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::RECT, true));
                 (self.rect(&b, *plane, o), b)
             }
             ObjectKind::Box => {
-                let b = self.block(&o.body, &allow("box", &["min", "max", "material"], false));
+                let b = self.block(&o.body, &Allow::props(&properties::BOX, true));
                 (self.cuboid(&b, o), b)
             }
             ObjectKind::Triangle => {
-                let b = self.block(
-                    &o.body,
-                    &allow("triangle", &["a", "b", "c", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::TRIANGLE, true));
                 (self.triangle(&b, o), b)
             }
             ObjectKind::Mesh(path) => {
-                let b = self.block(&o.body, &allow("mesh", &["material"], false));
+                let b = self.block(&o.body, &Allow::props(&properties::MESH, true));
                 (self.mesh_node(&b, path), b)
             }
             ObjectKind::Revolve(curve) => {
-                let props = &["material", "mode", "resolution", "tolerance"];
-                let b = self.block(&o.body, &allow("revolve", props, false));
+                let b = self.block(&o.body, &Allow::props(&properties::REVOLVE, true));
                 (self.revolve(&b, curve, o), b)
             }
             ObjectKind::Medium => {
-                let b = self.block(
-                    &o.body,
-                    &allow("medium", &["boundary", "density", "color"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::MEDIUM, true));
                 (self.medium(&b, o), b)
             }
             ObjectKind::Group => {
-                let b = self.block(&o.body, &allow("group", &[], true));
+                let b = self.block(&o.body, &holder("group"));
                 (self.children(&b.children).map(Node::Group), b)
             }
             ObjectKind::Repeat { var, from, to } => return self.repeat(var, from, to, o),
@@ -137,7 +123,7 @@ impl Evaluator {
         } else {
             otherwise
         };
-        let allow = allow("if", &[], true);
+        let allow = holder("if");
         let block = self.block(
             branch,
             &Allow {
@@ -505,14 +491,7 @@ impl Evaluator {
             ),
             "use a mesh for very many primitives",
         )?;
-        let allow = Allow {
-            what: "repeat",
-            props: &[],
-            transforms: true,
-            children: true,
-            size: false,
-            shutter: false,
-        };
+        let allow = holder("repeat");
         let block = self.block(&o.body, &allow);
         let mut nodes = Vec::new();
         let mut i = lo;

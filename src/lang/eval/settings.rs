@@ -8,6 +8,7 @@ use super::{Eval, Evaluator};
 use crate::lang::ast::{Item, Stmt};
 use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
+use crate::lang::properties;
 use crate::scene::Background;
 
 /// Bytes the renderer keeps per pixel (accumulator and output), for the
@@ -53,12 +54,8 @@ impl Evaluator {
 
     pub(super) fn render(&mut self, body: &[Stmt]) {
         let allow = Allow {
-            what: "render",
-            props: &["samples", "depth", "seed", "background", "fps"],
-            transforms: false,
-            children: false,
             size: true,
-            shutter: false,
+            ..Allow::props(&properties::RENDER, false)
         };
         let b = self.block(body, &allow);
         if let Some((w, h)) = b.size {
@@ -133,12 +130,8 @@ impl Evaluator {
 
     pub(super) fn camera(&mut self, body: &[Stmt]) {
         let allow = Allow {
-            what: "camera",
-            props: &["from", "at", "up", "fov", "aperture", "focus"],
-            transforms: false,
-            children: false,
-            size: false,
             shutter: true,
+            ..Allow::props(&properties::CAMERA, false)
         };
         let b = self.block(body, &allow);
         let cam = self.scene.camera;
