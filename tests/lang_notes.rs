@@ -114,3 +114,39 @@ fn syntax_errors_stop_after_ten_and_a_misspelt_material_is_reported_once() {
     let codes: Vec<_> = errors(&outcome).iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["rtlang::unknown-property"]);
 }
+
+/// After a syntax error the part that did not parse may use any name, so no
+/// `rtlang::unused` warning is given; the same file without the error warns
+/// about the one name it really never uses.
+#[test]
+fn unused_warnings_are_left_out_after_a_syntax_error() {
+    let dir = scratch::folder("notes-unused");
+    let scene = |radius: &str| {
+        format!(
+            "let m = lambertian(rgb(1, 1, 1))\nlet r = 2\nlet lonely = 3\nsphere {{ radius {radius} material m }}\n"
+        )
+    };
+    let unused = |outcome: &lang::Outcome| -> Vec<String> {
+        outcome
+            .diagnostics
+            .iter()
+            .filter(|d| d.code == "rtlang::unused")
+            .map(|d| d.message.clone())
+            .collect()
+    };
+    scratch::write(&dir, "good.rt", &scene("r"));
+    let good = check(&dir, "good.rt", &[]);
+    assert!(errors(&good).is_empty(), "{:?}", good.diagnostics);
+    assert_eq!(unused(&good).len(), 1, "{:?}", good.diagnostics);
+    assert!(unused(&good)[0].contains("lonely"), "{:?}", unused(&good));
+
+    scratch::write(&dir, "bad.rt", &scene("r *"));
+    let bad = check(&dir, "bad.rt", &[]);
+    assert_eq!(
+        errors(&bad)[0].code,
+        "rtlang::syntax",
+        "{:?}",
+        bad.diagnostics
+    );
+    assert_eq!(unused(&bad), Vec::<String>::new());
+}
