@@ -150,3 +150,46 @@ fn unused_warnings_are_left_out_after_a_syntax_error() {
     );
     assert_eq!(unused(&bad), Vec::<String>::new());
 }
+
+/// An error caused by a `-D` value says so when the span is an expression
+/// using the param, or a `let` defined from it, not only the param's name;
+/// the same error with the default value has no such note.
+#[test]
+fn an_error_from_a_define_names_it_through_expressions_and_lets() {
+    let dir = scratch::folder("notes-define-uses");
+    scratch::write(
+        &dir,
+        "s.rt",
+        "param r = 5\nparam far = 9\nlet d = 2 * r\nlet m = lambertian(rgb(1, 1, 1))\nsphere { center (0, far, 0) radius r - 3 material m }\nsphere { radius d material m }\n",
+    );
+    let note = |value: &str| format!("`r` is set by `-D r={value}` on the command line");
+    // In an expression using the param.
+    let outcome = check(&dir, "s.rt", &[("r", "2"), ("far", "1")]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert_eq!(e[0].code, "rtlang::range");
+    assert_eq!(e[0].notes, [note("2")]);
+    // Through a `let` defined from the param (both spheres fail).
+    let outcome = check(&dir, "s.rt", &[("r", "-1")]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 2, "{e:?}");
+    assert!(e.iter().all(|d| d.notes == [note("-1")]), "{e:?}");
+    // A value of the wrong type.
+    let outcome = check(&dir, "s.rt", &[("r", "(1, 2, 3)")]);
+    let e = errors(&outcome);
+    assert!(!e.is_empty());
+    assert!(
+        e.iter().all(|d| d.notes.contains(&note("(1, 2, 3)"))),
+        "{e:?}"
+    );
+    // The same mistake written in the file: no `-D` note.
+    scratch::write(
+        &dir,
+        "t.rt",
+        "param r = 2\nparam far = 9\nlet _f = far\nlet m = lambertian(rgb(1, 1, 1))\nsphere { radius r - 3 material m }\n",
+    );
+    let outcome = check(&dir, "t.rt", &[("far", "1")]);
+    let e = errors(&outcome);
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].notes.is_empty(), "{e:?}");
+}

@@ -150,22 +150,6 @@ impl Evaluator {
         }
     }
 
-    /// A note for an error at `span` when the text there names a `param`
-    /// set by `-D`, so the command line is known to be the cause.
-    pub(super) fn define_note(&self, span: Span) -> Option<String> {
-        let text = self
-            .sources
-            .file(span.file)
-            .text
-            .get(span.start as usize..span.end as usize)?;
-        let &index = self.def_index.get(text)?;
-        self.defines.contains(&index).then(|| {
-            let value = &self.defs[index].value.span;
-            let given = self.sources.file(value.file).text.to_string();
-            format!("`{text}` is set by `-D {text}={given}` on the command line")
-        })
-    }
-
     fn param_names(&self) -> Vec<String> {
         self.defs
             .iter()

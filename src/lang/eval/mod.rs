@@ -4,6 +4,7 @@
 //! motion, settings and assets.
 
 mod assets;
+mod blame;
 mod builtins;
 mod convert;
 mod defs;
@@ -222,8 +223,8 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
 impl Evaluator {
     /// Records a diagnostic; returns the failure marker for errors.
     fn report(&mut self, mut d: Diagnostic) -> Fail {
-        if let Some(note) = d.span.and_then(|s| self.define_note(s)) {
-            d.notes.push(note);
+        if let Some(span) = d.span {
+            d.notes.extend(self.define_notes(span));
         }
         if d.is_error() && !self.loops.is_empty() {
             let values: Vec<String> = self
