@@ -86,3 +86,30 @@ fn the_reference_lists_exactly_the_diagnostic_codes() {
         "missing from the doc: {missing:?}; not a code: {extra:?}"
     );
 }
+
+/// Every property of `lang::properties` is documented with its block: on the
+/// block's `- \`sphere\`: ...` line, or in the reference's example block of
+/// `render` / `camera` (one property a line).
+#[test]
+fn every_declared_property_is_documented_with_its_block() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    let mut missing = Vec::new();
+    for block in lang::properties::TABLE {
+        let line = doc
+            .lines()
+            .find(|l| l.starts_with(&format!("- `{}", block.block)));
+        let example = doc
+            .find(&format!("\n{} {{\n", block.block))
+            .map(|at| &doc[at..at + doc[at..].find("\n}").unwrap_or(0)]);
+        for prop in block.props {
+            let on_line = line.is_some_and(|l| {
+                l.contains(&format!("`{}`", prop.name)) || l.contains(&format!(" {} ", prop.name))
+            });
+            let in_example = example.is_some_and(|e| e.contains(&format!("\n  {} ", prop.name)));
+            if !on_line && !in_example {
+                missing.push(format!("{}.{}", block.block, prop.name));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "not documented: {missing:?}");
+}
