@@ -60,7 +60,7 @@ fn many_errors_are_all_reported() {
         .diagnostics
         .iter()
         .filter(|d| d.is_error())
-        .map(|d| d.code)
+        .map(|d| d.code.as_str())
         .collect();
     assert_eq!(
         codes,

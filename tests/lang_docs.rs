@@ -41,3 +41,75 @@ fn assert_examples_clean(doc: &str, min: usize, tag: &str) {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn every_builtin_of_the_table_is_documented() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    for b in rtlang::lang::builtins::TABLE {
+        let named = doc.contains(&format!("`{}", b.name)) || doc.contains(&format!(" {}", b.name));
+        assert!(named, "`{}` is not in docs/language.md", b.name);
+        assert!(
+            !b.doc.is_empty() && b.usage.starts_with(b.name),
+            "{}",
+            b.name
+        );
+        assert!(b.min <= b.max, "{}", b.name);
+    }
+}
+
+/// The list after "Codes are stable:" in the language reference names exactly
+/// the codes of `lang::codes::Code`: none missing, none extra, none twice.
+#[test]
+fn the_reference_lists_exactly_the_diagnostic_codes() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    let start =
+        doc.find("Codes are stable:").expect("the list of codes") + "Codes are stable:".len();
+    let rest = &doc[start..];
+    let open = rest.find('`').expect("the opening backtick") + 1;
+    let close = open + rest[open..].find('`').expect("the closing backtick");
+    let mut listed: Vec<String> = rest[open..close]
+        .split_whitespace()
+        .map(|w| format!("rtlang::{}", w.trim_start_matches("rtlang::")))
+        .collect();
+    let mut codes: Vec<String> = lang::codes::Code::ALL
+        .iter()
+        .map(|c| c.as_str().to_string())
+        .collect();
+    listed.sort();
+    codes.sort();
+    let twice: Vec<_> = listed.windows(2).filter(|w| w[0] == w[1]).collect();
+    assert!(twice.is_empty(), "listed twice: {twice:?}");
+    let missing: Vec<_> = codes.iter().filter(|c| !listed.contains(c)).collect();
+    let extra: Vec<_> = listed.iter().filter(|c| !codes.contains(c)).collect();
+    assert!(
+        missing.is_empty() && extra.is_empty(),
+        "missing from the doc: {missing:?}; not a code: {extra:?}"
+    );
+}
+
+/// Every property of `lang::properties` is documented with its block: on the
+/// block's `- \`sphere\`: ...` line, or in the reference's example block of
+/// `render` / `camera` (one property a line).
+#[test]
+fn every_declared_property_is_documented_with_its_block() {
+    let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
+    let mut missing = Vec::new();
+    for block in lang::properties::TABLE {
+        let line = doc
+            .lines()
+            .find(|l| l.starts_with(&format!("- `{}", block.block)));
+        let example = doc
+            .find(&format!("\n{} {{\n", block.block))
+            .map(|at| &doc[at..at + doc[at..].find("\n}").unwrap_or(0)]);
+        for prop in block.props {
+            let on_line = line.is_some_and(|l| {
+                l.contains(&format!("`{}`", prop.name)) || l.contains(&format!(" {} ", prop.name))
+            });
+            let in_example = example.is_some_and(|e| e.contains(&format!("\n  {} ", prop.name)));
+            if !on_line && !in_example {
+                missing.push(format!("{}.{}", block.block, prop.name));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "not documented: {missing:?}");
+}

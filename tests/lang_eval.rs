@@ -1,6 +1,8 @@
 //! End-to-end evaluation: scene files under `tests/scenes/` → `Scene`,
 //! checked against the values the files spell out.
 
+mod support;
+
 use std::path::Path;
 
 use glam::Vec3;
@@ -20,17 +22,11 @@ fn scene(name: &str, defines: &[(&str, &str)]) -> rtlang::scene::Scene {
 }
 
 fn codes(name: &str, defines: &[(&str, &str)]) -> Vec<&'static str> {
-    let options = Options {
-        defines: defines
-            .iter()
-            .map(|(a, b)| (a.to_string(), b.to_string()))
-            .collect(),
-        ..Options::default()
-    };
+    let options = support::defines::options(defines);
     lang::check(Path::new(&format!("tests/scenes/{name}")), &options)
         .diagnostics
         .iter()
-        .map(|d| d.code)
+        .map(|d| d.code.as_str())
         .collect()
 }
 
@@ -210,7 +206,11 @@ fn a_condition_must_be_a_boolean() {
     std::fs::write(&path, "let r = if 1 then 2 else 3\nlet s = 1 < true\nsphere { radius r + s material lambertian(rgb(1, 1, 1)) }\n")
         .expect("write the scene");
     let outcome = lang::check(&path, &Options::default());
-    let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
+    let codes: Vec<_> = outcome
+        .diagnostics
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect();
     assert_eq!(codes, ["rtlang::type", "rtlang::type"]);
 }
 
@@ -271,6 +271,10 @@ fn a_frame_rate_must_be_positive() {
     let path = dir.join("fps.rt");
     std::fs::write(&path, "render { fps 0 }\n").expect("write the scene");
     let outcome = lang::check(&path, &Options::default());
-    let codes: Vec<_> = outcome.diagnostics.iter().map(|d| d.code).collect();
+    let codes: Vec<_> = outcome
+        .diagnostics
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect();
     assert_eq!(codes, ["rtlang::range"]);
 }

@@ -31,6 +31,9 @@ pub enum Item {
         value: Expr,
         span: Span,
     },
+    /// `fn NAME(a, b: 2) = EXPR`, or `fn NAME(...) { ... }` whose body is
+    /// a group (then `block` is set and `body` is that group object).
+    Fn(Function),
     /// `include "PATH"`
     Include { path: String, span: Span },
     /// `render { ... }`
@@ -39,6 +42,24 @@ pub enum Item {
     Camera { body: Vec<Stmt>, span: Span },
     /// An object or a `place` placed in the world.
     Stmt(Stmt),
+}
+
+/// A user-defined function.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Function {
+    pub name: Ident,
+    pub params: Vec<Param>,
+    pub body: Expr,
+    /// Written in the block form `fn NAME(...) { ... }`.
+    pub block: bool,
+    pub span: Span,
+}
+
+/// A parameter of a function, with its default value if it has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    pub name: Ident,
+    pub default: Option<Expr>,
 }
 
 /// A statement inside a block (or an object/place at top level).
@@ -69,9 +90,11 @@ pub enum Stmt {
         span: Span,
     },
     Object(Object),
-    /// `place NAME { transforms }`
+    /// `place NAME { transforms }`, or `place NAME(args) { transforms }`
+    /// for a function that returns an object.
     Place {
         name: Ident,
+        args: Option<Vec<Arg>>,
         body: Vec<Stmt>,
         span: Span,
     },

@@ -6,6 +6,7 @@ use std::fmt;
 use miette::{LabeledSpan, NamedSource, SourceSpan};
 use serde::Serialize;
 
+use super::codes::Code;
 use super::source::{SourceMap, Span};
 
 /// How bad a diagnostic is.
@@ -20,8 +21,8 @@ pub enum Severity {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     pub severity: Severity,
-    /// A stable code such as `rtlang::unknown-name`.
-    pub code: &'static str,
+    /// A stable code; its text is such as `rtlang::unknown-name`.
+    pub code: Code,
     pub message: String,
     /// The main location; `None` for problems outside any file (a bad `-D`).
     pub span: Option<Span>,
@@ -30,11 +31,14 @@ pub struct Diagnostic {
     /// Further locations (for example the first of two duplicate definitions).
     pub related: Vec<(Span, String)>,
     pub help: Option<String>,
+    /// Context lines printed after the help (`note: ...`), such as the loop
+    /// values or the include chain that led to the problem.
+    pub notes: Vec<String>,
 }
 
 impl Diagnostic {
     /// An error with code `code` at `span`.
-    pub fn error(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+    pub fn error(code: Code, span: Span, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             severity: Severity::Error,
             code,
@@ -43,11 +47,12 @@ impl Diagnostic {
             label: String::new(),
             related: Vec::new(),
             help: None,
+            notes: Vec::new(),
         }
     }
 
     /// A warning with code `code` at `span`.
-    pub fn warning(code: &'static str, span: Span, message: impl Into<String>) -> Diagnostic {
+    pub fn warning(code: Code, span: Span, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             severity: Severity::Warning,
             ..Diagnostic::error(code, span, message)
@@ -55,7 +60,7 @@ impl Diagnostic {
     }
 
     /// An error that points at no source text.
-    pub fn global(code: &'static str, message: impl Into<String>) -> Diagnostic {
+    pub fn global(code: Code, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             span: None,
             ..Diagnostic::error(code, Span::default(), message)
@@ -71,6 +76,12 @@ impl Diagnostic {
     /// Sets the help line.
     pub fn help(mut self, help: impl Into<String>) -> Diagnostic {
         self.help = Some(help.into());
+        self
+    }
+
+    /// Adds a note line.
+    pub fn note(mut self, note: impl Into<String>) -> Diagnostic {
+        self.notes.push(note.into());
         self
     }
 
@@ -98,7 +109,7 @@ impl Diagnostic {
                 to_source_span(span),
             ));
             for (other, text) in &self.related {
-                if other.file == span.file {
+                if other.file == span.file && *other != span {
                     labels.push(LabeledSpan::new_with_span(
                         Some(text.clone()),
                         to_source_span(*other),
@@ -128,6 +139,21 @@ impl Diagnostic {
             }
             None => (None, None, None, None),
         };
+        let labels: Vec<serde_json::Value> = self
+            .related
+            .iter()
+            .map(|(s, label)| {
+                let f = sources.file(s.file);
+                let (line, column) = f.line_col(s.start as usize);
+                serde_json::json!({
+                    "file": f.name,
+                    "line": line,
+                    "column": column,
+                    "span": [s.start, s.end],
+                    "label": label,
+                })
+            })
+            .collect();
         serde_json::json!({
             "severity": self.severity,
             "code": self.code,
@@ -137,7 +163,9 @@ impl Diagnostic {
             "column": column,
             "span": span,
             "label": self.label,
+            "labels": labels,
             "help": self.help,
+            "notes": self.notes,
         })
     }
 }
@@ -175,10 +203,19 @@ impl miette::Diagnostic for Rendered {
     }
 
     fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-        self.diagnostic
-            .help
-            .as_ref()
-            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
+        let d = &self.diagnostic;
+        if d.help.is_none() && d.notes.is_empty() {
+            return None;
+        }
+        let mut text = d.help.clone().unwrap_or_default();
+        for note in &d.notes {
+            if !text.is_empty() {
+                text.push('\n');
+            }
+            text.push_str("note: ");
+            text.push_str(note);
+        }
+        Some(Box::new(text))
     }
 
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {

@@ -6,18 +6,23 @@
 //! `rtlang check`.
 
 pub mod ast;
+pub mod builtins;
 pub mod cache;
+pub mod codes;
 pub mod diagnostics;
 mod eval;
 pub mod expr;
 pub mod format;
+pub mod lexical;
 pub mod names;
 pub mod pretty;
+pub mod properties;
 pub mod scan;
 pub mod source;
 pub mod syntax;
 pub mod trivia;
 
+use crate::lang::codes::Code;
 use std::path::Path;
 
 use crate::scene::Scene;
@@ -82,18 +87,18 @@ pub fn parse_to_canonical(path: &Path) -> Result<String, (Vec<Diagnostic>, Sourc
     let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
         Err(e) => {
-            let d = Diagnostic::global(
-                "rtlang::io",
-                format!("cannot read `{}`: {e}", path.display()),
-            )
-            .help("check the path");
+            let d = Diagnostic::global(Code::Io, format!("cannot read `{}`: {e}", path.display()))
+                .help("check the path");
             return Err((vec![d], sources));
         }
     };
     let file = sources.add(path, path.display().to_string(), text.as_str().into());
-    match syntax::parse_file(&text, file) {
-        Ok((ast, problems)) if problems.is_empty() => Ok(pretty::file(&ast)),
-        Ok((_, problems)) => Err((problems, sources)),
-        Err(d) => Err((vec![*d], sources)),
+    let parsed = syntax::parse_all(&text, file);
+    if parsed.syntax_errors.is_empty() && parsed.problems.is_empty() {
+        Ok(pretty::file(&parsed.file))
+    } else {
+        let mut problems = parsed.syntax_errors;
+        problems.extend(parsed.problems);
+        Err((problems, sources))
     }
 }

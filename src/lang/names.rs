@@ -4,6 +4,7 @@
 /// Words that cannot be used as names of definitions or loop variables.
 pub const KEYWORDS: &[&str] = &[
     "let",
+    "fn",
     "param",
     "include",
     "render",

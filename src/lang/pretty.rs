@@ -103,6 +103,7 @@ impl Printer<'_> {
                 self.line(&format!("{kw} {} = ", name.name));
                 self.expr(value, 0);
             }
+            Item::Fn(f) => self.function(f),
             Item::Include { path, .. } => {
                 self.line(&format!("include {}", quote(path)));
             }
@@ -171,8 +172,13 @@ impl Printer<'_> {
                 self.line("");
                 self.object(object);
             }
-            Stmt::Place { name, body, .. } => {
+            Stmt::Place {
+                name, args, body, ..
+            } => {
                 self.line(&format!("place {}", name.name));
+                if let Some(args) = args {
+                    self.args(args);
+                }
                 if !body.is_empty() {
                     self.block(body);
                 }
@@ -185,6 +191,45 @@ impl Printer<'_> {
         }
         self.after(stmt.span());
         self.out.push('\n');
+    }
+
+    /// `fn NAME(a, b: 2) = EXPR`, or the block form.
+    fn function(&mut self, f: &Function) {
+        self.line(&format!("fn {}(", f.name.name));
+        for (i, param) in f.params.iter().enumerate() {
+            if i > 0 {
+                self.out.push_str(", ");
+            }
+            self.out.push_str(&param.name.name);
+            if let Some(default) = &param.default {
+                self.out.push_str(": ");
+                self.expr(default, 0);
+            }
+        }
+        self.out.push(')');
+        match &f.body.kind {
+            ExprKind::Object(o) if f.block => self.block(&o.body),
+            _ => {
+                self.out.push_str(" = ");
+                self.expr(&f.body, 0);
+            }
+        }
+        self.out.push('\n');
+    }
+
+    /// `(a, name: b)`: the arguments of a call.
+    fn args(&mut self, args: &[Arg]) {
+        self.out.push('(');
+        for (i, arg) in args.iter().enumerate() {
+            if i > 0 {
+                self.out.push_str(", ");
+            }
+            if let Some(name) = &arg.name {
+                let _ = write!(self.out, "{}: ", name.name);
+            }
+            self.expr(&arg.value, 0);
+        }
+        self.out.push(')');
     }
 
     /// `if COND { ... }`, then `else if ...` or `else { ... }` if present.
@@ -328,17 +373,7 @@ impl Printer<'_> {
             }
             ExprKind::Call { callee, args } => {
                 self.out.push_str(&callee.name);
-                self.out.push('(');
-                for (i, arg) in args.iter().enumerate() {
-                    if i > 0 {
-                        self.out.push_str(", ");
-                    }
-                    if let Some(name) = &arg.name {
-                        let _ = write!(self.out, "{}: ", name.name);
-                    }
-                    self.expr(&arg.value, 0);
-                }
-                self.out.push(')');
+                self.args(args);
             }
             ExprKind::Neg(x) => {
                 self.out.push('-');

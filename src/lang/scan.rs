@@ -5,6 +5,7 @@
 
 use super::diagnostics::Diagnostic;
 use super::source::Span;
+use crate::lang::codes::Code;
 
 /// Deepest bracket nesting accepted in a file.
 pub const MAX_NESTING: usize = 64;
@@ -18,8 +19,9 @@ pub const MIN_PIECE: usize = 256 * 1024;
 /// is anything an expression may begin with). A line that starts with one,
 /// outside all brackets and comments, is a place to cut the file. Leaving a
 /// keyword out only means fewer places to cut.
-const ITEM_KEYWORDS: [&[u8]; 17] = [
+const ITEM_KEYWORDS: [&[u8]; 18] = [
     b"let",
+    b"fn",
     b"param",
     b"include",
     b"render",
@@ -80,7 +82,7 @@ pub fn check(text: &str, file: u32, pieces: usize) -> Result<Vec<usize>, Box<Dia
                 depth += 1;
                 if depth > MAX_NESTING {
                     return Err(Diagnostic::error(
-                        "rtlang::too-deep",
+                        Code::TooDeep,
                         Span::new(file, i, i + 1),
                         format!("brackets nest more than {MAX_NESTING} deep"),
                     )
@@ -105,7 +107,7 @@ pub fn check(text: &str, file: u32, pieces: usize) -> Result<Vec<usize>, Box<Dia
         }
         if pow_run > MAX_EXPR_DEPTH || neg_run > MAX_EXPR_DEPTH {
             return Err(Diagnostic::error(
-                "rtlang::too-deep",
+                Code::TooDeep,
                 Span::new(file, i, i + 1),
                 format!("more than {MAX_EXPR_DEPTH} chained `^` or `-` operators"),
             )
@@ -121,6 +123,20 @@ pub fn check(text: &str, file: u32, pieces: usize) -> Result<Vec<usize>, Box<Dia
     }
     cuts.push(bytes.len());
     Ok(cuts)
+}
+
+/// The first line start after the line holding `from` whose line begins
+/// (in column 0) with an item keyword: where parsing resumes after a
+/// syntax error.
+pub fn next_item(text: &str, from: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let mut at = from;
+    loop {
+        at += bytes.get(at..)?.iter().position(|&b| b == b'\n')? + 1;
+        if starts_an_item(&bytes[at..]) {
+            return Some(at);
+        }
+    }
 }
 
 /// Whether `rest` begins with an item keyword followed by a non-name byte.

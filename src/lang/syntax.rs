@@ -1,6 +1,7 @@
 //! Parsing: source text → [`ast::File`] with byte spans, through the pest
 //! grammar in `grammar/rtlang.pest`, after the limits of [`scan`].
 
+use crate::lang::codes::Code;
 use std::sync::LazyLock;
 
 use pest::iterators::{Pair, Pairs};
@@ -10,6 +11,8 @@ use rayon::prelude::*;
 
 use super::ast::*;
 use super::diagnostics::Diagnostic;
+use super::lexical;
+use super::names;
 use super::scan::{self, MAX_EXPR_DEPTH};
 
 #[derive(pest_derive::Parser)]
@@ -33,15 +36,52 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
         .op(Op::infix(Rule::pow, Assoc::Right))
 });
 
-/// Parses a whole file. On a syntax error returns its diagnostic; lowering
-/// problems (bad escapes, too-deep expressions) are returned alongside the tree.
+/// At most this many syntax errors are reported for one file; later ones
+/// are mostly echoes of the earlier.
+pub const MAX_SYNTAX_ERRORS: usize = 10;
+
+/// A file parsed with recovery: the items that parsed, the syntax errors
+/// (each item that failed is skipped to the next item boundary), and the
+/// problems found while lowering (bad escapes, too-deep expressions).
+pub struct Parsed {
+    pub file: File,
+    pub syntax_errors: Vec<Diagnostic>,
+    pub problems: Vec<Diagnostic>,
+}
+
+/// Parses a whole file. On a syntax error returns the first one; lowering
+/// problems (bad escapes, too-deep expressions) are returned alongside the
+/// tree. [`parse_all`] keeps every syntax error.
+pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<Diagnostic>> {
+    let parsed = parse_all(text, file);
+    match parsed.syntax_errors.into_iter().next() {
+        Some(first) => Err(Box::new(first)),
+        None => Ok((parsed.file, parsed.problems)),
+    }
+}
+
+/// Parses a whole file, reporting every syntax error: token-level ones
+/// ([`lexical::check`]) first, and when there are none, each grammar error
+/// with parsing resumed at the next item boundary.
 ///
 /// A long file is cut where [`scan::check`] finds an item boundary and the
 /// pieces are parsed on all cores; the result is the same as one sequential
-/// parse, which is what runs (and reports the error) when any piece fails.
-pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<Diagnostic>> {
+/// parse, which is what runs (and reports the errors) when any piece fails.
+pub fn parse_all(text: &str, file: u32) -> Parsed {
+    let failed = |errors: Vec<Diagnostic>| Parsed {
+        file: File::default(),
+        syntax_errors: errors,
+        problems: Vec::new(),
+    };
     let pieces = (text.len() / scan::MIN_PIECE).clamp(1, rayon::current_num_threads());
-    let cuts = scan::check(text, file, pieces)?;
+    let cuts = match scan::check(text, file, pieces) {
+        Ok(cuts) => cuts,
+        Err(d) => return failed(vec![*d]),
+    };
+    let lexical = lexical::check(text, file);
+    if !lexical.is_empty() {
+        return failed(lexical);
+    }
     if cuts.len() > 2 {
         let parsed: Result<Vec<_>, _> = cuts
             .par_windows(2)
@@ -49,18 +89,23 @@ pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<
             .collect();
         if let Ok(parsed) = parsed {
             let mut items = Vec::with_capacity(parsed.iter().map(|(f, _)| f.items.len()).sum());
-            let mut diagnostics = Vec::new();
-            for (piece, problems) in parsed {
+            let mut problems = Vec::new();
+            for (piece, found) in parsed {
                 items.extend(piece.items);
-                diagnostics.extend(problems);
+                problems.extend(found);
             }
-            return Ok((File { items }, diagnostics));
+            return Parsed {
+                file: File { items },
+                syntax_errors: Vec::new(),
+                problems,
+            };
         }
     }
-    parse_range(text, file, 0, text.len())
+    parse_recovering(text, file)
 }
 
-/// Parses the items in `text[start..end]`, with spans in the whole file.
+/// Parses the items in `text[start..end]`, with spans in the whole file;
+/// stops at the first syntax error.
 fn parse_range(
     text: &str,
     file: u32,
@@ -76,43 +121,154 @@ fn parse_range(
     while lower.offset < end {
         let rest = &text[lower.offset..end];
         let batch = Grammar::parse(Rule::next_items, rest)
-            .map_err(|e| Box::new(syntax_error(e, file, lower.offset)))?
+            .map_err(|e| Box::new(syntax_error(e, text, file, lower.offset)))?
             .next()
             .map(|p| p.into_inner());
-        let mut consumed = None;
-        for pair in batch.into_iter().flatten() {
-            if pair.as_rule() == Rule::EOI {
-                break;
-            }
-            consumed = Some(pair.as_span().end());
-            items.push(lower.item(pair));
-        }
-        let Some(consumed) = consumed else { break };
+        let Some(consumed) = lower.items(batch, &mut items) else {
+            break;
+        };
         lower.offset += consumed;
     }
     Ok((File { items }, lower.diagnostics))
 }
 
-/// Parses a single expression (a `-D` value); `None` if it is not one.
-pub fn parse_expr(text: &str, file: u32) -> Option<Expr> {
-    scan::check(text, file, 1).ok()?;
-    let mut pairs = Grammar::parse(Rule::define_value, text).ok()?;
+/// Parses the whole file, resuming after each syntax error at the next
+/// line that begins an item, up to [`MAX_SYNTAX_ERRORS`].
+fn parse_recovering(text: &str, file: u32) -> Parsed {
     let mut lower = Lower {
         file,
         offset: 0,
         diagnostics: Vec::new(),
     };
-    let expr = lower.expr(pairs.next()?.into_inner().next()?);
-    lower.diagnostics.is_empty().then_some(expr)
+    let mut items = Vec::new();
+    let mut errors = Vec::new();
+    while lower.offset < text.len() {
+        let rest = &text[lower.offset..];
+        // A batch that fails is parsed again one item at a time, so the
+        // items before the error are kept.
+        let parsed = match Grammar::parse(Rule::next_items, rest) {
+            Ok(pairs) => Ok(pairs),
+            Err(_) => Grammar::parse(Rule::one_item, rest),
+        };
+        match parsed {
+            Ok(mut pairs) => {
+                let batch = pairs.next().map(|p| p.into_inner());
+                let Some(consumed) = lower.items(batch, &mut items) else {
+                    break;
+                };
+                lower.offset += consumed;
+            }
+            Err(e) => {
+                let d = syntax_error(e, text, file, lower.offset);
+                let at = d.span.map_or(lower.offset, |s| s.start as usize);
+                errors.push(d);
+                let item_start = text.len() - rest.trim_start().len();
+                items.extend(placeholder(text, file, item_start));
+                let resume = scan::next_item(text, at.max(item_start));
+                if errors.len() >= MAX_SYNTAX_ERRORS {
+                    if let Some(resume) = resume {
+                        errors.push(
+                            Diagnostic::error(
+                                Code::Syntax,
+                                Span::new(file, resume, resume),
+                                format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
+                            )
+                            .label("not parsed from here on")
+                            .help(
+                                "fix the errors above first; later ones are often caused by them",
+                            ),
+                        );
+                    }
+                    break;
+                }
+                match resume {
+                    Some(resume) => lower.offset = resume,
+                    None => break,
+                }
+            }
+        }
+    }
+    Parsed {
+        file: File { items },
+        syntax_errors: errors,
+        problems: lower.diagnostics,
+    }
+}
+
+/// For a `let` or `param` that failed to parse, a definition whose value
+/// is an error, so its uses give no follow-on "unknown name" errors.
+fn placeholder(text: &str, file: u32, at: usize) -> Option<Item> {
+    let rest = &text[at..];
+    let (kw, after) = if let Some(r) = rest.strip_prefix("let") {
+        ("let", r)
+    } else {
+        ("param", rest.strip_prefix("param")?)
+    };
+    let trimmed = after.trim_start();
+    let name_len = trimmed
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(trimmed.len());
+    if trimmed.len() == after.len() || name_len == 0 {
+        return None;
+    }
+    let start = at + kw.len() + (after.len() - trimmed.len());
+    let span = Span::new(file, start, start + name_len);
+    let name = Ident {
+        name: trimmed[..name_len].to_string(),
+        span,
+    };
+    let value = Expr {
+        kind: ExprKind::Error,
+        span,
+    };
+    Some(if kw == "let" {
+        Item::Let { name, value, span }
+    } else {
+        Item::Param { name, value, span }
+    })
+}
+
+/// Parses a single expression (a `-D` value), or returns its syntax errors.
+pub fn parse_expr(text: &str, file: u32) -> Result<Expr, Vec<Diagnostic>> {
+    scan::check(text, file, 1).map_err(|d| vec![*d])?;
+    let lexical = lexical::check(text, file);
+    if !lexical.is_empty() {
+        return Err(lexical);
+    }
+    let mut pairs = Grammar::parse(Rule::define_value, text)
+        .map_err(|e| vec![syntax_error(e, text, file, 0)])?;
+    let mut lower = Lower {
+        file,
+        offset: 0,
+        diagnostics: Vec::new(),
+    };
+    let inner = pairs.next().and_then(|p| p.into_inner().next());
+    let Some(inner) = inner else {
+        return Err(Vec::new());
+    };
+    let expr = lower.expr(inner);
+    if lower.diagnostics.is_empty() {
+        Ok(expr)
+    } else {
+        Err(lower.diagnostics)
+    }
 }
 
 /// Turns pest's error into a diagnostic with words a user understands.
-/// `offset` is where the parsed text starts in the file.
-fn syntax_error(error: pest::error::Error<Rule>, file: u32, offset: usize) -> Diagnostic {
+/// `offset` is where the parsed text starts in the file `text`.
+fn syntax_error(
+    error: pest::error::Error<Rule>,
+    text: &str,
+    file: u32,
+    offset: usize,
+) -> Diagnostic {
     let (start, end) = match error.location {
         pest::error::InputLocation::Pos(p) => (offset + p, offset + p),
         pest::error::InputLocation::Span((s, e)) => (offset + s, offset + e),
     };
+    if let Some(d) = hint(text, file, start) {
+        return d;
+    }
     let message = match &error.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } if !positives.is_empty() => {
             let mut names: Vec<String> = positives
@@ -126,9 +282,164 @@ fn syntax_error(error: pest::error::Error<Rule>, file: u32, offset: usize) -> Di
         pest::error::ErrorVariant::ParsingError { .. } => "unexpected input".to_string(),
         pest::error::ErrorVariant::CustomError { message } => message.clone(),
     };
-    Diagnostic::error("rtlang::syntax", Span::new(file, start, end), message)
+    Diagnostic::error(Code::Syntax, Span::new(file, start, end), message)
         .label("here")
         .help("see docs/language.md for the syntax of each statement")
+}
+
+/// "missing `,`" when the bracket at `at` holds two values separated only
+/// by spaces, as in `(0 1 0)`.
+fn missing_comma(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    let line_end = text[at..].find('\n').map_or(text.len(), |p| at + p);
+    let inner = &text[at + 1..line_end];
+    if inner.trim_start().starts_with("if ") {
+        return None;
+    }
+    let mut depth = 0usize;
+    let mut prev_value_end = None;
+    for (i, c) in inner.char_indices() {
+        match c {
+            '(' | '[' => depth += 1,
+            ')' | ']' if depth == 0 => return None,
+            ')' | ']' => depth -= 1,
+            _ => {}
+        }
+        if depth > 0 && c != ')' && c != ']' {
+            continue;
+        }
+        if c.is_whitespace() {
+            continue;
+        }
+        let starts_value = c.is_ascii_alphanumeric() || c == '(' || c == '"' || c == '#';
+        if let Some(end) = prev_value_end {
+            let gap = &inner[end..i];
+            let word = &inner[i..];
+            let is_op = ["and", "or", "not"].iter().any(|w| word.starts_with(w));
+            if starts_value && !gap.is_empty() && gap.trim().is_empty() && !is_op {
+                let start = at + 1 + end;
+                return Some(
+                    Diagnostic::error(
+                        Code::Syntax,
+                        Span::new(file, start, at + 1 + i),
+                        "missing `,` between two values",
+                    )
+                    .label("a comma belongs here")
+                    .help("separate the components of a vector with commas: `(0, 1, 0)`"),
+                );
+            }
+        }
+        prev_value_end =
+            (c.is_ascii_alphanumeric() || c == ')' || c == ']' || c == '"' || c == '_')
+                .then(|| i + c.len_utf8());
+    }
+    None
+}
+
+/// Object keywords, for "did you mean" where a statement starts.
+const OBJECTS: &[&str] = &[
+    "sphere", "plane", "rect", "box", "triangle", "mesh", "revolve", "medium", "group", "repeat",
+];
+
+/// A specific message for the common mistakes at a syntax error at `at`:
+/// an unknown word before `{`, `=` or `:` after a property name, commas
+/// and semicolons between statements.
+fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    let bytes = text.as_bytes();
+    let word_at = |i: usize| {
+        let end = (i..bytes.len())
+            .find(|&k| !(bytes[k].is_ascii_alphanumeric() || bytes[k] == b'_'))
+            .unwrap_or(bytes.len());
+        (end > i && bytes[i].is_ascii_alphabetic()).then_some(end)
+    };
+    // The word just before `at` (spaces skipped), if any.
+    let before = text[..at].trim_end();
+    let prev_start = before
+        .char_indices()
+        .rev()
+        .find(|(_, c)| !(c.is_ascii_alphanumeric() || *c == '_'))
+        .map_or(0, |(p, c)| p + c.len_utf8());
+    let prev = &before[prev_start..];
+    let next_non_space = |i: usize| text[i..].trim_start().bytes().next();
+    let c = *bytes.get(at)?;
+    // `spehre { ... }`: a word where an object or statement should start.
+    let word = match word_at(at) {
+        Some(end) if next_non_space(end) == Some(b'{') => Some((at, end)),
+        _ if c == b'{' && !prev.is_empty() && !names::is_keyword(prev) => {
+            Some((prev_start, before.len()))
+        }
+        _ => None,
+    };
+    if let Some((ws, we)) = word {
+        let w = &text[ws..we];
+        if !names::is_keyword(w) && w.bytes().next().is_some_and(|b| b.is_ascii_alphabetic()) {
+            let help = match names::suggest(w, OBJECTS.iter().copied()) {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => format!("objects are {}", OBJECTS.join(", ")),
+            };
+            return Some(
+                Diagnostic::error(
+                    Code::Syntax,
+                    Span::new(file, ws, we),
+                    format!("unknown object `{w}`"),
+                )
+                .label("not an object keyword")
+                .help(help),
+            );
+        }
+    }
+    let span = Span::new(file, at, at + 1);
+    let head = text[..prev_start].trim_end_matches([' ', '\t']);
+    let starts_line = head.is_empty() || head.ends_with(['\n', '{']);
+    match c {
+        b'=' | b':' if starts_line && !prev.is_empty() && bytes.get(at + 1) != Some(&b'=') => {
+            let value = text[at + 1..].lines().next().unwrap_or("").trim();
+            Some(
+                Diagnostic::error(
+                    Code::Syntax,
+                    span,
+                    format!("unexpected `{}` after `{prev}`", c as char),
+                )
+                .label("not needed")
+                .help(format!(
+                    "a property is its name and its value: write `{prev} {value}`"
+                )),
+            )
+        }
+        b',' => Some(
+            Diagnostic::error(Code::Syntax, span, "unexpected `,`")
+                .label("not a separator here")
+                .help("statements and properties are not separated by commas: remove it"),
+        ),
+        b'+' | b'*' | b'/' | b'^' => {
+            let dangling = text[at + 1..]
+                .lines()
+                .next()
+                .is_none_or(|l| l.trim().is_empty());
+            let (label, help) = if dangling {
+                (
+                    "nothing follows it on this line",
+                    "finish the expression after the operator on the same line, or remove the operator",
+                )
+            } else {
+                (
+                    "no left operand",
+                    "an expression cannot start with an operator",
+                )
+            };
+            Some(
+                Diagnostic::error(Code::Syntax, span, format!("unexpected `{}`", c as char))
+                    .label(label)
+                    .help(help),
+            )
+        }
+        b'(' => missing_comma(text, file, at),
+        b';' => Some(
+            Diagnostic::error(Code::Syntax, span, "unexpected `;`")
+                .label("not needed")
+                .help("statements end at the end of their value: remove it"),
+        ),
+        _ => None,
+    }
 }
 
 fn join_or(names: &[String]) -> String {
@@ -145,6 +456,8 @@ fn rule_name(rule: Rule) -> &'static str {
         Rule::EOI => "end of file",
         Rule::next_items => "a statement",
         Rule::item | Rule::let_item | Rule::param_item | Rule::include_item => "a statement",
+        Rule::fn_item | Rule::kw_fn => "a statement",
+        Rule::fn_param => "a parameter",
         Rule::render_item | Rule::camera_item => "a statement",
         Rule::block => "`{`",
         Rule::stmt | Rule::property | Rule::size_prop | Rule::shutter_prop | Rule::mode_prop => {
@@ -205,6 +518,20 @@ struct Lower {
 }
 
 impl Lower {
+    /// Lowers a batch of items into `out`; returns how far the batch
+    /// reached from `self.offset`, or `None` when it held no item.
+    fn items(&mut self, batch: Option<Pairs<Rule>>, out: &mut Vec<Item>) -> Option<usize> {
+        let mut consumed = None;
+        for pair in batch.into_iter().flatten() {
+            if pair.as_rule() == Rule::EOI {
+                break;
+            }
+            consumed = Some(pair.as_span().end());
+            out.push(self.item(pair));
+        }
+        consumed
+    }
+
     fn span(&self, pair: &Pair<Rule>) -> Span {
         let s = pair.as_span();
         Span::new(self.file, self.offset + s.start(), self.offset + s.end())
@@ -232,6 +559,7 @@ impl Lower {
                     Item::Param { name, value, span }
                 }
             }
+            Rule::fn_item => Item::Fn(self.function(pair)),
             Rule::include_item => {
                 inner.next();
                 let path = self.string(next(&mut inner));
@@ -253,6 +581,73 @@ impl Lower {
             }
             _ => Item::Stmt(self.stmt(pair)),
         }
+    }
+
+    /// `fn NAME(params) = EXPR` or `fn NAME(params) { ... }`.
+    fn function(&mut self, pair: Pair<Rule>) -> Function {
+        let span = self.span(&pair);
+        let mut inner = pair.into_inner();
+        inner.next();
+        let name = self.ident(next(&mut inner));
+        let mut params = Vec::new();
+        let mut body = None;
+        for p in inner {
+            match p.as_rule() {
+                Rule::fn_param => {
+                    let mut kv = p.into_inner();
+                    let name = self.ident(next(&mut kv));
+                    let default = kv.next().map(|d| self.expr(d));
+                    params.push(Param { name, default });
+                }
+                Rule::block => {
+                    let block_span = self.span(&p);
+                    let object = Object {
+                        kind: ObjectKind::Group,
+                        body: self.block(p),
+                        span: block_span,
+                        head: name.span,
+                    };
+                    body = Some((ExprKind::Object(Box::new(object)), block_span, true));
+                }
+                _ => {
+                    let e = self.expr(p);
+                    body = Some((e.kind, e.span, false));
+                }
+            }
+        }
+        let (kind, body_span, block) =
+            body.unwrap_or_else(|| unreachable!("the grammar guarantees a body"));
+        Function {
+            name,
+            params,
+            body: Expr {
+                kind,
+                span: body_span,
+            },
+            block,
+            span,
+        }
+    }
+
+    /// The arguments of a call, positional or `name: value`.
+    fn args(&mut self, pairs: Pairs<Rule>) -> Vec<Arg> {
+        pairs
+            .map(|a| {
+                if a.as_rule() == Rule::kwarg {
+                    let mut kv = a.into_inner();
+                    let name = self.ident(next(&mut kv));
+                    Arg {
+                        name: Some(name),
+                        value: self.expr(next(&mut kv)),
+                    }
+                } else {
+                    Arg {
+                        name: None,
+                        value: self.expr(a),
+                    }
+                }
+            })
+            .collect()
     }
 
     fn block(&mut self, pair: Pair<Rule>) -> Vec<Stmt> {
@@ -308,9 +703,21 @@ impl Lower {
             }
             Rule::place => {
                 inner.next();
-                let name = self.ident(next(&mut inner));
+                let target = next(&mut inner);
+                let (name, args) = if target.as_rule() == Rule::call {
+                    let mut call = target.into_inner();
+                    let name = self.ident(next(&mut call));
+                    (name, Some(self.args(call)))
+                } else {
+                    (self.ident(target), None)
+                };
                 let body = inner.next().map(|b| self.block(b)).unwrap_or_default();
-                Stmt::Place { name, body, span }
+                Stmt::Place {
+                    name,
+                    args,
+                    body,
+                    span,
+                }
             }
             Rule::object => Stmt::Object(self.object(pair)),
             Rule::flip => Stmt::Flip { span },
@@ -478,7 +885,7 @@ impl Lower {
                 Ok(v) if v.is_finite() => ExprKind::Number(v),
                 _ => {
                     self.diagnostics.push(
-                        Diagnostic::error("rtlang::number", span, "number out of range")
+                        Diagnostic::error(Code::Number, span, "number out of range")
                             .label("not a finite number")
                             .help("numbers must fit in a 64-bit float"),
                     );
@@ -509,23 +916,7 @@ impl Lower {
             Rule::call => {
                 let mut inner = pair.into_inner();
                 let callee = self.ident(next(&mut inner));
-                let args = inner
-                    .map(|a| {
-                        if a.as_rule() == Rule::kwarg {
-                            let mut kv = a.into_inner();
-                            let name = self.ident(next(&mut kv));
-                            Arg {
-                                name: Some(name),
-                                value: self.expr(next(&mut kv)),
-                            }
-                        } else {
-                            Arg {
-                                name: None,
-                                value: self.expr(a),
-                            }
-                        }
-                    })
-                    .collect();
+                let args = self.args(inner);
                 ExprKind::Call { callee, args }
             }
             _ => ExprKind::Error,
@@ -558,7 +949,7 @@ impl Lower {
                     let end = start + 1 + other.map_or(0, |(_, c)| c.len_utf8());
                     self.diagnostics.push(
                         Diagnostic::error(
-                            "rtlang::bad-escape",
+                            Code::BadEscape,
                             Span::new(self.file, start, end),
                             "unknown escape in string",
                         )
@@ -589,7 +980,7 @@ fn bounded(
     if deepest + 1 > MAX_EXPR_DEPTH {
         diagnostics.borrow_mut().push(
             Diagnostic::error(
-                "rtlang::too-deep",
+                Code::TooDeep,
                 span,
                 format!("expression is more than {MAX_EXPR_DEPTH} operators deep"),
             )

@@ -1,6 +1,7 @@
 //! Files a scene refers to: image textures and OBJ meshes, loaded only when
 //! used, once per path, with the path tried in every error.
 
+use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
 
 use super::{Eval, Evaluator};
@@ -34,7 +35,7 @@ impl Evaluator {
         }
         Err(self.report(
             Diagnostic::error(
-                "rtlang::file-type",
+                Code::FileType,
                 span,
                 format!("`{}` is not a supported {what} file", path.display()),
             )
@@ -62,7 +63,7 @@ impl Evaluator {
                 Ok(id)
             }
             Err(e) => Err(self.report(
-                Diagnostic::error("rtlang::io", span, e.to_string())
+                Diagnostic::error(Code::Io, span, e.to_string())
                     .label("image used here")
                     .help("relative paths resolve against the directory of the scene file"),
             )),
@@ -84,7 +85,7 @@ impl Evaluator {
             Ok(loaded) => loaded,
             Err(e) => {
                 return Err(self.report(
-                    Diagnostic::error("rtlang::mesh", span, e.to_string())
+                    Diagnostic::error(Code::Mesh, span, e.to_string())
                         .label("mesh used here")
                         .help("relative paths resolve against the directory of the scene file"),
                 ))
@@ -92,7 +93,7 @@ impl Evaluator {
         };
         for warning in warnings.iter() {
             self.diagnostics.push(
-                Diagnostic::warning("rtlang::mesh-warning", span, warning)
+                Diagnostic::warning(Code::MeshWarning, span, warning)
                     .label("in this mesh")
                     .help("the mesh loads with a fallback for what is missing"),
             );
@@ -156,7 +157,7 @@ impl Evaluator {
             Err(e) => {
                 self.diagnostics.push(
                     Diagnostic::warning(
-                        "rtlang::mesh-warning",
+                        Code::MeshWarning,
                         span,
                         format!("{e}; using the material's colour"),
                     )

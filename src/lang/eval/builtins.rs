@@ -1,7 +1,8 @@
-//! Calls of built-in functions: the signature table (arity and keyword
-//! arguments, checked before the call), numeric functions, colours,
-//! textures and materials.
+//! Calls of built-in functions: checked against the signatures of
+//! [`crate::lang::builtins::TABLE`] before the call, then numeric
+//! functions, colours, textures and materials.
 
+use crate::lang::codes::Code;
 use std::rc::Rc;
 
 use glam::DVec3;
@@ -16,114 +17,9 @@ use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
 use crate::scene::{Material, Texture};
 
-/// Positional arity range and keyword names of a built-in function.
-struct Signature {
-    min: usize,
-    max: usize,
-    keywords: &'static [&'static str],
-    usage: &'static str,
-}
-
-const fn sig(
-    min: usize,
-    max: usize,
-    keywords: &'static [&'static str],
-    usage: &'static str,
-) -> Signature {
-    Signature {
-        min,
-        max,
-        keywords,
-        usage,
-    }
-}
-
-fn signature(name: &str) -> Option<Signature> {
-    if math::fn1(name).is_some() {
-        return Some(sig(1, 1, &[], "takes one number"));
-    }
-    if math::fn2(name).is_some() {
-        return Some(sig(2, 2, &[], "takes two numbers"));
-    }
-    if math::fn3(name).is_some() {
-        return Some(sig(3, 3, &[], "takes three numbers"));
-    }
-    Some(match name {
-        "random" => sig(1, 1, &[], "random(seed)"),
-        "keyframes" => sig(
-            2,
-            2,
-            &["smooth"],
-            "keyframes(t, [(time, value), ...], smooth: false)",
-        ),
-        "rgb" => sig(3, 3, &[], "rgb(r, g, b)"),
-        "hex" => sig(1, 1, &[], "hex(\"#rrggbb\")"),
-        "gradient" => sig(2, 2, &[], "gradient(bottom, top)"),
-        "solid" => sig(1, 1, &[], "solid(colour)"),
-        "checker" => sig(
-            2,
-            2,
-            &["scale", "uv"],
-            "checker(even, odd, scale: 10, uv: false)",
-        ),
-        "image" => sig(1, 1, &[], "image(\"path.png\")"),
-        "noise" => sig(
-            0,
-            0,
-            &["scale", "color"],
-            "noise(scale: 1, color: rgb(1, 1, 1))",
-        ),
-        "lambertian" => sig(1, 1, &[], "lambertian(colour or texture)"),
-        "metal" => sig(1, 1, &["fuzz"], "metal(colour or texture, fuzz: 0)"),
-        "dielectric" => sig(1, 1, &[], "dielectric(ior)"),
-        "light" => sig(
-            1,
-            1,
-            &["two_sided"],
-            "light(colour or texture, two_sided: false)",
-        ),
-        "isotropic" => sig(1, 1, &[], "isotropic(colour or texture)"),
-        _ => return None,
-    })
-}
-
-/// Every built-in function name, for suggestions.
-const FUNCTIONS: &[&str] = &[
-    "sin",
-    "cos",
-    "tan",
-    "sqrt",
-    "abs",
-    "radians",
-    "degrees",
-    "exp",
-    "ln",
-    "floor",
-    "min",
-    "max",
-    "pow",
-    "lerp",
-    "clamp",
-    "smoothstep",
-    "random",
-    "keyframes",
-    "rgb",
-    "hex",
-    "gradient",
-    "solid",
-    "checker",
-    "image",
-    "noise",
-    "lambertian",
-    "metal",
-    "dielectric",
-    "light",
-    "isotropic",
-];
-
 /// Whether `name` is a built-in function.
 pub fn is_function(name: &str) -> bool {
-    FUNCTIONS.contains(&name)
+    crate::lang::builtins::get(name).is_some()
 }
 
 /// Evaluated arguments of one call.
@@ -144,14 +40,16 @@ impl Args {
 impl Evaluator {
     /// Checks a call against its signature; `None` when `name` is no function.
     pub(super) fn check_call(&mut self, callee: &Ident, args: &[Arg], span: Span) -> Eval<()> {
-        let Some(sig) = signature(&callee.name) else {
-            let help = match names::suggest(&callee.name, FUNCTIONS.iter().copied()) {
+        let Some(sig) = crate::lang::builtins::get(&callee.name) else {
+            let mut candidates: Vec<&str> = crate::lang::builtins::names().collect();
+            candidates.extend(self.funcs.iter().map(|f| f.def.name.name.as_str()));
+            let help = match names::suggest(&callee.name, candidates) {
                 Some(s) => format!("did you mean `{s}`?"),
                 None => "see docs/language.md for the built-in functions".to_string(),
             };
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::unknown-function",
+                    Code::UnknownFunction,
                     callee.span,
                     format!("no function named `{}`", callee.name),
                 )
@@ -169,7 +67,7 @@ impl Evaluator {
             };
             self.report(
                 Diagnostic::error(
-                    "rtlang::arity",
+                    Code::Arity,
                     span,
                     format!(
                         "`{}` takes {want} positional argument{}, {positional} given",
@@ -189,7 +87,7 @@ impl Evaluator {
                 None if seen_named => {
                     self.report(
                         Diagnostic::error(
-                            "rtlang::argument-order",
+                            Code::ArgumentOrder,
                             arg.value.span,
                             "a positional argument after a keyword argument",
                         )
@@ -208,7 +106,7 @@ impl Evaluator {
                         };
                         self.report(
                             Diagnostic::error(
-                                "rtlang::unknown-argument",
+                                Code::UnknownArgument,
                                 name.span,
                                 format!("`{}` has no argument named `{}`", callee.name, name.name),
                             )
@@ -219,7 +117,7 @@ impl Evaluator {
                     } else if names_seen.contains(&name.name.as_str()) {
                         self.report(
                             Diagnostic::error(
-                                "rtlang::duplicate",
+                                Code::Duplicate,
                                 name.span,
                                 format!("argument `{}` given twice", name.name),
                             )
@@ -241,6 +139,9 @@ impl Evaluator {
 
     /// Evaluates a call of a built-in function.
     pub(super) fn call(&mut self, callee: &Ident, args: &[Arg], span: Span) -> Eval<Value> {
+        if let Some(&index) = self.func_index.get(&callee.name) {
+            return self.user_call(index, args, span);
+        }
         self.check_call(callee, args, span)?;
         let mut positional = Vec::new();
         let mut named = Vec::new();
@@ -333,7 +234,7 @@ impl Evaluator {
         let Value::List(items) = list else {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("expected a list of keys, found {}", list.type_name()),
                 )
@@ -348,7 +249,7 @@ impl Evaluator {
         if keys.is_empty() || !sorted {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     "keyframe times must be strictly increasing, with at least one key",
                 )
@@ -365,7 +266,7 @@ impl Evaluator {
         } else {
             Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     format!("{what} must be positive, not {x}"),
                 )
@@ -444,7 +345,7 @@ impl Evaluator {
                 if !(0.0..=1.0).contains(&fuzz) {
                     return Err(self.report(
                         Diagnostic::error(
-                            "rtlang::range",
+                            Code::Range,
                             fs,
                             format!("fuzz must be in [0, 1], not {fuzz}"),
                         )
@@ -496,7 +397,7 @@ impl Evaluator {
         if pts.len() < 2 {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     format!(
                         "a Bézier curve needs at least 2 control points, found {}",
@@ -510,7 +411,7 @@ impl Evaluator {
         if pts.iter().all(|p| *p == pts[0]) {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::degenerate",
+                    Code::Degenerate,
                     span,
                     "all control points of the curve coincide",
                 )

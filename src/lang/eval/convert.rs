@@ -1,6 +1,7 @@
 //! Typed views of values, each reporting a type error at the given span:
 //! numbers, integers, vectors, colours, textures, materials, strings.
 
+use crate::lang::codes::Code;
 use glam::{DVec2, DVec3};
 
 use super::value::Value;
@@ -18,7 +19,7 @@ impl Evaluator {
     ) -> super::Fail {
         self.report(
             Diagnostic::error(
-                "rtlang::type",
+                Code::Type,
                 span,
                 format!("expected {want}, found {}", got.type_name()),
             )
@@ -46,7 +47,7 @@ impl Evaluator {
         if x.fract() != 0.0 || !(0.0..=u32::MAX as f64).contains(&x) {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::range",
+                    Code::Range,
                     span,
                     format!("{what} must be a whole number ≥ 0, not {x}"),
                 )
@@ -88,7 +89,7 @@ impl Evaluator {
         };
         if c.min_element() < 0.0 {
             return Err(self.report(
-                Diagnostic::error("rtlang::range", span, "a colour channel is negative")
+                Diagnostic::error(Code::Range, span, "a colour channel is negative")
                     .label(format!("({}, {}, {})", c.x, c.y, c.z))
                     .help("colour channels are linear values ≥ 0"),
             ));

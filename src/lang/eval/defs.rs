@@ -2,6 +2,7 @@
 //! order-independent lazy evaluation with cycle detection, name lookup with
 //! suggestions, and the unused-definition warnings.
 
+use crate::lang::codes::Code;
 use std::sync::Arc;
 
 use super::value::Value;
@@ -23,16 +24,27 @@ impl Evaluator {
             let (kind, name, value) = match item {
                 Item::Let { name, value, .. } => (DefKind::Let, name, value),
                 Item::Param { name, value, .. } => (DefKind::Param, name, value),
+                Item::Fn(f) => {
+                    self.register_fn(f);
+                    continue;
+                }
                 _ => continue,
             };
             if !self.check_new_name(&name.name, name.span) {
                 continue;
             }
-            if let Some(&first) = self.def_index.get(&name.name) {
-                let first_span = self.defs[first].name.span;
+            let first = self
+                .def_index
+                .get(&name.name)
+                .map(|&i| self.defs[i].name.span);
+            let first = first.or_else(|| {
+                let i = *self.func_index.get(&name.name)?;
+                Some(self.funcs[i].def.name.span)
+            });
+            if let Some(first_span) = first {
                 self.report(
                     Diagnostic::error(
-                        "rtlang::duplicate",
+                        Code::Duplicate,
                         name.span,
                         format!("`{}` is defined twice", name.name),
                     )
@@ -51,6 +63,7 @@ impl Evaluator {
                 used: false,
             });
         }
+        self.mark_fn_mentions();
     }
 
     /// Whether `name` may be defined (not a keyword or predefined name).
@@ -63,7 +76,7 @@ impl Evaluator {
             };
             self.report(
                 Diagnostic::error(
-                    "rtlang::keyword-name",
+                    Code::KeywordName,
                     span,
                     format!("`{name}` is {what} and cannot be defined"),
                 )
@@ -88,7 +101,7 @@ impl Evaluator {
                 };
                 self.report(
                     Diagnostic::global(
-                        "rtlang::unknown-define",
+                        Code::UnknownDefine,
                         format!("`-D {name}=…` names no `param` of the scene"),
                     )
                     .help(help),
@@ -99,7 +112,7 @@ impl Evaluator {
                 let span = self.defs[index].name.span;
                 self.report(
                     Diagnostic::error(
-                        "rtlang::unknown-define",
+                        Code::UnknownDefine,
                         span,
                         format!("`-D {name}=…` names a `let`, not a `param`"),
                     )
@@ -116,11 +129,24 @@ impl Evaluator {
                 format!("-D {name}"),
                 source,
             );
-            let value = syntax::parse_expr(&text, file).unwrap_or(Expr {
-                kind: ExprKind::Str(text.clone()),
-                span: Span::new(file, 0, text.len()),
-            });
+            let value = match syntax::parse_expr(&text, file) {
+                Ok(value) => value,
+                // Meant as an expression: its syntax errors, on the `-D` text.
+                Err(errors) if looks_like_expression(&text) => {
+                    for d in errors {
+                        self.report(d.note(format!(
+                            "this is the value given by `-D {name}=…` on the command line"
+                        )));
+                    }
+                    continue;
+                }
+                Err(_) => Expr {
+                    kind: ExprKind::Str(text.clone()),
+                    span: Span::new(file, 0, text.len()),
+                },
+            };
             self.defs[index].value = value;
+            self.defines.push(index);
         }
     }
 
@@ -180,7 +206,7 @@ impl Evaluator {
     /// The value of a name in an expression.
     pub(super) fn lookup(&mut self, name: &str, span: Span) -> Eval<Value> {
         if let Some((_, v)) = self.locals.iter().rev().find(|(n, _)| n == name) {
-            return Ok(Value::Num(*v));
+            return Ok(v.clone());
         }
         if let Some(&index) = self.def_index.get(name) {
             return self.def_value(index, span);
@@ -189,24 +215,47 @@ impl Evaluator {
             "pi" => return Ok(Value::Num(std::f64::consts::PI)),
             "frame" => return Ok(Value::Num(self.options.frame)),
             "fps" => return Ok(Value::Num(self.options.fps)),
+            "t" if !self.def_stack.is_empty() => {
+                let def = &self.defs[self.def_stack[self.def_stack.len() - 1]];
+                let n = def.name.name.clone();
+                return Err(self.report(
+                    Diagnostic::error(Code::TimeOutsideMotion, span, format!("`t` is used in the definition of `{n}`"))
+                        .label("the shutter time is not known here")
+                        .help(format!("a definition has one value, but `t` varies: write the expression inside the `motion` block, or make `{n}` a function of the time, e.g. `fn {n}(at) = ...` used as `{n}(t)`")),
+                ))
+            }
             "t" => {
                 return Err(self.report(
-                    Diagnostic::error("rtlang::time-outside-motion", span, "`t` is only defined inside `motion` blocks")
+                    Diagnostic::error(Code::TimeOutsideMotion, span, "`t` is only defined inside `motion` blocks")
                         .label("the shutter time is not known here")
                         .help("move this transform into a `motion { ... }` block, or use `frame` for animations"),
                 ))
             }
             _ => {}
         }
+        if self.sym_locals.iter().any(|(n, _)| n == name) {
+            return Err(self.report(
+                Diagnostic::error(
+                    Code::Type,
+                    span,
+                    format!("`{name}` depends on `t` here, and this is not arithmetic"),
+                )
+                .label("varies over the shutter")
+                .help("inside `motion`, a function may only do arithmetic (`+ - * / ^` and the numeric functions) on what depends on `t`"),
+            ));
+        }
         Err(self.unknown_name(name, span))
     }
 
     /// The "unknown name" diagnostic with a suggestion.
     pub(super) fn unknown_name(&mut self, name: &str, span: Span) -> Fail {
-        if super::builtins::is_function(name) {
+        if let Some(&i) = self.func_index.get(name) {
+            self.funcs[i].used = true;
+        }
+        if super::builtins::is_function(name) || self.func_index.contains_key(name) {
             return self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("`{name}` is a function, not a value"),
                 )
@@ -219,7 +268,7 @@ impl Evaluator {
         if names::is_keyword(name) {
             return self.report(
                 Diagnostic::error(
-                    "rtlang::keyword-name",
+                    Code::KeywordName,
                     span,
                     format!("`{name}` is a keyword, not a value"),
                 )
@@ -227,10 +276,18 @@ impl Evaluator {
                 .help("see docs/language.md for where this keyword goes"),
             );
         }
+        if self.include_failed {
+            // Most likely defined in the include that could not be read.
+            return Fail;
+        }
         let mut candidates: Vec<&str> = self.defs.iter().map(|d| d.name.name.as_str()).collect();
         candidates.extend(self.locals.iter().map(|(n, _)| n.as_str()));
         candidates.extend(PREDEFINED);
+        let time = matches!(name, "time" | "shutter_time" | "T");
         let help = match names::suggest(name, candidates) {
+            _ if time => {
+                "did you mean `t`? inside `motion`, `t` is the time across the shutter".to_string()
+            }
             Some(s) => {
                 let at = self.def_index.get(s).map(|&i| {
                     let span = self.defs[i].name.span;
@@ -245,7 +302,7 @@ impl Evaluator {
         };
         self.report(
             Diagnostic::error(
-                "rtlang::unknown-name",
+                Code::UnknownName,
                 span,
                 format!("no definition named `{name}`"),
             )
@@ -268,7 +325,7 @@ impl Evaluator {
                 self.defs[index].state = DefState::Failed;
                 return Err(self.report(
                     Diagnostic::error(
-                        "rtlang::cycle",
+                        Code::Cycle,
                         span,
                         format!("`{name}` is defined in terms of itself"),
                     )
@@ -282,7 +339,7 @@ impl Evaluator {
         if self.def_stack.len() >= MAX_DEF_DEPTH {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::too-deep",
+                    Code::TooDeep,
                     span,
                     format!("definitions refer to definitions more than {MAX_DEF_DEPTH} deep"),
                 )
@@ -293,8 +350,10 @@ impl Evaluator {
         self.def_stack.push(index);
         let expr = self.defs[index].value.clone();
         let locals = std::mem::take(&mut self.locals);
+        let loops = std::mem::take(&mut self.loops);
         let result = self.expr(&expr);
         self.locals = locals;
+        self.loops = loops;
         self.def_stack.pop();
         self.defs[index].state = match &result {
             Ok(v) => DefState::Done(v.clone()),
@@ -311,7 +370,7 @@ impl Evaluator {
             .collect();
         for &i in &unused {
             let def = &self.defs[i];
-            if def.name.name.starts_with('_') {
+            if def.name.name.starts_with('_') || self.syntax_failed {
                 continue;
             }
             let what = match def.kind {
@@ -319,7 +378,7 @@ impl Evaluator {
                 DefKind::Param => "parameter",
             };
             let d = Diagnostic::warning(
-                "rtlang::unused",
+                Code::Unused,
                 def.name.span,
                 format!("unused {what} `{}`", def.name.name),
             )
@@ -339,7 +398,9 @@ impl Evaluator {
         let caches = self.caches.clone();
         let default_material = self.default_material;
         self.dry = true;
-        for i in unused {
+        // Every definition not evaluated yet is checked, also one that only
+        // a function body mentions.
+        for i in 0..self.defs.len() {
             if matches!(self.defs[i].state, DefState::Pending) {
                 let span = self.defs[i].name.span;
                 let _ = self.def_value(i, span);
@@ -353,4 +414,12 @@ impl Evaluator {
         self.caches = caches;
         self.default_material = default_material;
     }
+}
+
+/// Whether a `-D` value was meant as an expression (a number, vector,
+/// list, colour, string or negation) rather than as a bare string such as
+/// a path.
+fn looks_like_expression(text: &str) -> bool {
+    text.trim_start()
+        .starts_with(|c: char| c.is_ascii_digit() || "([-#\"".contains(c))
 }

@@ -1,6 +1,7 @@
 //! Evaluating expressions to values: literals, names, vectors, lists,
 //! arithmetic, calls and object expressions.
 
+use crate::lang::codes::Code;
 use std::rc::Rc;
 
 use glam::{DVec2, DVec3};
@@ -40,10 +41,7 @@ impl Evaluator {
                 let vb = self.expr(b);
                 let (va, vb) = (va?, vb?);
                 let r = value::binary(*op, &va, &vb);
-                let span = if r
-                    .as_ref()
-                    .is_err_and(|i| i.code == "rtlang::division-by-zero")
-                {
+                let span = if r.as_ref().is_err_and(|i| i.code == Code::DivisionByZero) {
                     b.span
                 } else {
                     e.span
@@ -76,7 +74,7 @@ impl Evaluator {
             Value::Bool(b) => Ok(*b),
             other => Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("expected a boolean, found {}", other.type_name()),
                 )
@@ -107,7 +105,7 @@ impl Evaluator {
             [x, y, z] => Ok(Value::Vec3(DVec3::new(x, y, z))),
             _ => Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     e.span,
                     format!(
                         "a vector has 2 or 3 components, this one has {}",
@@ -132,7 +130,7 @@ pub(super) fn hex_color(h: &str) -> Result<DVec3, super::issue::Issue> {
     match (h.len(), channel(0), channel(2), channel(4)) {
         (6, Some(r), Some(g), Some(b)) => Ok(DVec3::new(r, g, b)),
         _ => Err(super::issue::Issue::new(
-            "rtlang::bad-color",
+            Code::BadColor,
             format!("`{h}` is not a colour `#rrggbb`"),
         )
         .label("not six hex digits")

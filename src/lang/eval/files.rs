@@ -1,6 +1,7 @@
 //! Reading scene files: size, encoding and emptiness checks, parsing, and
 //! splicing `include`d files in place (each file once; cycles are errors).
 
+use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -35,22 +36,28 @@ impl Evaluator {
     ) {
         let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
         if let Some(span) = from {
-            if stack.contains(&key) {
+            if let Some(first) = stack.iter().position(|p| *p == key) {
+                let chain: Vec<String> = stack[first..]
+                    .iter()
+                    .chain(std::iter::once(&key))
+                    .map(|p| short_name(p))
+                    .collect();
                 self.report(
                     Diagnostic::error(
-                        "rtlang::include-cycle",
+                        Code::IncludeCycle,
                         span,
                         format!("`{}` includes itself", path.display()),
                     )
                     .label("this include closes a cycle")
-                    .help("remove one of the includes in the cycle"),
+                    .help("remove one of the includes in the cycle")
+                    .note(format!("the cycle: {}", chain.join(" includes "))),
                 );
                 return;
             }
             if stack.len() >= MAX_INCLUDE_DEPTH {
                 self.report(
                     Diagnostic::error(
-                        "rtlang::too-deep",
+                        Code::TooDeep,
                         span,
                         format!("includes nest more than {MAX_INCLUDE_DEPTH} deep"),
                     )
@@ -70,21 +77,20 @@ impl Evaluator {
             .add(path, path.display().to_string(), text.clone());
         if text.trim().is_empty() {
             let span = Span::new(file, 0, 0);
-            let d = Diagnostic::error("rtlang::empty-file", span, "the scene file is empty")
+            let d = Diagnostic::error(Code::EmptyFile, span, "the scene file is empty")
                 .help("a scene needs at least one object; see docs/language.md");
             if from.is_none() {
                 self.report(d);
             }
             return;
         }
-        let (ast, problems) = match syntax::parse_file(&text, file) {
-            Ok(parsed) => parsed,
-            Err(d) => {
-                self.report(*d);
-                return;
-            }
-        };
-        self.diagnostics.extend(problems);
+        self.include_chain(file, from);
+        let parsed = syntax::parse_all(&text, file);
+        // Unused-name warnings would be echoes of the parts that failed.
+        self.syntax_failed |= !parsed.syntax_errors.is_empty();
+        self.diagnostics.extend(parsed.syntax_errors);
+        self.diagnostics.extend(parsed.problems);
+        let ast = parsed.file;
         stack.push(key.clone());
         seen.push(key);
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -97,6 +103,35 @@ impl Evaluator {
             }
         }
         stack.pop();
+    }
+
+    /// Records which include brought file `file` in, for the notes of its
+    /// diagnostics.
+    fn include_chain(&mut self, file: u32, from: Option<Span>) {
+        if let Some(span) = from {
+            self.included_from.insert(file, span);
+        }
+    }
+
+    /// "`b.rt` is included from a.rt:3" lines, innermost first, for a
+    /// diagnostic in file `file`.
+    pub(super) fn include_notes(&self, mut file: u32) -> Vec<String> {
+        let mut notes = Vec::new();
+        while let Some(span) = self.included_from.get(&file) {
+            let here = self.sources.file(file);
+            let there = self.sources.file(span.file);
+            let (line, _) = there.line_col(span.start as usize);
+            notes.push(format!(
+                "`{}` is included from {}:{line}",
+                short_name(&here.path),
+                there.name
+            ));
+            if notes.len() > MAX_INCLUDE_DEPTH {
+                break;
+            }
+            file = span.file;
+        }
+        notes
     }
 
     /// The text of a source file, or a reported diagnostic.
@@ -116,7 +151,7 @@ impl Evaluator {
         let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
         if size > MAX_FILE_BYTES {
             let d = Diagnostic::global(
-                "rtlang::file-too-large",
+                Code::FileTooLarge,
                 format!(
                     "`{}` is {:.1} MiB, more than the {} MiB a scene file may have",
                     path.display(),
@@ -131,12 +166,18 @@ impl Evaluator {
         let bytes = match std::fs::read(path) {
             Ok(bytes) => bytes,
             Err(e) => {
-                let d = Diagnostic::global(
-                    "rtlang::io",
-                    format!("cannot read `{}`: {e}", path.display()),
-                )
-                .label("included here")
-                .help("check the path; relative paths resolve against the including file");
+                let help = match near_miss(path) {
+                    Some(s) => format!("did you mean `{s}`?"),
+                    None => "check the path; relative paths resolve against the including file"
+                        .to_string(),
+                };
+                let d =
+                    Diagnostic::global(Code::Io, format!("cannot read `{}`: {e}", path.display()))
+                        .label("included here")
+                        .help(help);
+                if from.is_some() {
+                    self.include_failed = true;
+                }
                 self.report(located(d));
                 return None;
             }
@@ -147,7 +188,7 @@ impl Evaluator {
             let file = self.sources.add(path, path.display().to_string(), lossy);
             self.report(
                 Diagnostic::error(
-                    "rtlang::binary-file",
+                    Code::BinaryFile,
                     Span::new(file, nul, nul + 1),
                     format!("`{}` is a binary file, not a scene", path.display()),
                 )
@@ -164,7 +205,7 @@ impl Evaluator {
                 let file = self.sources.add(path, path.display().to_string(), lossy);
                 self.report(
                     Diagnostic::error(
-                        "rtlang::not-utf8",
+                        Code::NotUtf8,
                         Span::new(file, at, at + '\u{fffd}'.len_utf8()),
                         format!("`{}` is not valid UTF-8", path.display()),
                     )
@@ -175,4 +216,24 @@ impl Evaluator {
             }
         }
     }
+}
+
+/// A path's file name, for short messages.
+fn short_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// A file next to `path` whose name is close to its name.
+fn near_miss(path: &Path) -> Option<String> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+    let entries = std::fs::read_dir(dir.unwrap_or(Path::new("."))).ok()?;
+    let names: Vec<String> = entries
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .collect();
+    let wanted = path.file_name()?.to_str()?;
+    let found = crate::lang::names::suggest(wanted, names.iter().map(String::as_str))?;
+    Some(found.to_string())
 }

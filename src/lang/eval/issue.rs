@@ -2,13 +2,14 @@
 //! attaches the span (typst's `.at(span)` pattern), turning it into a
 //! [`Diagnostic`].
 
+use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::Span;
 
 /// A diagnostic without a location yet.
 #[derive(Clone, Debug)]
 pub struct Issue {
-    pub code: &'static str,
+    pub code: Code,
     pub message: String,
     pub label: Option<String>,
     pub help: Option<String>,
@@ -16,7 +17,7 @@ pub struct Issue {
 
 impl Issue {
     /// An issue with a stable code and a message.
-    pub fn new(code: &'static str, message: impl Into<String>) -> Issue {
+    pub fn new(code: Code, message: impl Into<String>) -> Issue {
         Issue {
             code,
             message: message.into(),

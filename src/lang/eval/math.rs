@@ -1,6 +1,7 @@
 //! The numeric built-in functions, shared by constant evaluation and the
 //! constant folding of motion expressions.
 
+use crate::lang::codes::Code;
 use crate::scene::motion::{Fn1, Fn2, Fn3};
 
 use super::issue::Issue;
@@ -44,9 +45,8 @@ pub fn fn3(name: &str) -> Option<Fn3> {
 
 /// Applies a one-argument function; domain errors are issues.
 pub fn apply1(f: Fn1, x: f64) -> Result<f64, Issue> {
-    let domain = |what: &str| {
-        Issue::new("rtlang::domain", format!("{what} of {x}")).label("out of the domain")
-    };
+    let domain =
+        |what: &str| Issue::new(Code::Domain, format!("{what} of {x}")).label("out of the domain");
     Ok(match f {
         Fn1::Sin => x.sin(),
         Fn1::Cos => x.cos(),

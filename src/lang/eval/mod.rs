@@ -4,12 +4,14 @@
 //! motion, settings and assets.
 
 mod assets;
+mod blame;
 mod budget;
 mod builtins;
 mod convert;
 mod defs;
 mod exprs;
 mod files;
+mod functions;
 mod issue;
 mod math;
 mod motion;
@@ -19,6 +21,7 @@ mod settings;
 mod transforms;
 mod value;
 
+use crate::lang::codes::Code;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -121,8 +124,28 @@ pub(crate) struct Evaluator {
     diagnostics: Vec<Diagnostic>,
     defs: Vec<Def>,
     def_index: HashMap<String, usize>,
-    /// Loop variables in scope, innermost last.
-    locals: Vec<(String, f64)>,
+    /// Loop variables and function parameters in scope, innermost last.
+    locals: Vec<(String, Value)>,
+    /// User-defined functions and their index by name.
+    funcs: Vec<functions::Func>,
+    func_index: HashMap<String, usize>,
+    /// Some file had syntax errors: no unused-name warnings.
+    syntax_failed: bool,
+    /// Definitions whose value was given by `-D`.
+    defines: Vec<usize>,
+    /// An include could not be read: names it would have defined are not
+    /// reported as unknown.
+    include_failed: bool,
+    /// The include that brought in each included file.
+    included_from: HashMap<u32, Span>,
+    /// The values of the `repeat` loops being run, outermost first (for
+    /// the "when i = 4" note of errors inside loops).
+    loops: Vec<(String, f64)>,
+    /// Function calls being evaluated.
+    call_depth: usize,
+    /// Parameters of a function called inside a `motion`, as expressions
+    /// of `t` (innermost last).
+    sym_locals: Vec<(String, motion::SymVal)>,
     /// Definitions being evaluated (for cycles and depth).
     def_stack: Vec<usize>,
     /// Checking unused definitions: nothing is loaded from disk.
@@ -154,8 +177,32 @@ struct Caches {
     protos: HashMap<usize, ProtoId>,
 }
 
-/// Parses and evaluates the scene at `path`.
+/// The stack of the thread evaluation runs on. Recursive functions nest
+/// evaluation [`functions::MAX_CALL_DEPTH`] calls deep, each call up to the
+/// parser's expression and bracket limits deep: far more than a default
+/// thread's stack, far less than this (which is only reserved, not used).
+const EVAL_STACK_BYTES: usize = 1 << 30;
+
+/// Parses and evaluates the scene at `path`, on a thread with a stack
+/// large enough for the deepest evaluation the limits allow.
 pub fn evaluate(path: &Path, options: &Options) -> Outcome {
+    std::thread::scope(|scope| {
+        let worker = std::thread::Builder::new()
+            .name("rtlang-eval".into())
+            .stack_size(EVAL_STACK_BYTES)
+            .spawn_scoped(scope, || evaluate_here(path, options));
+        match worker {
+            Ok(handle) => match handle.join() {
+                Ok(outcome) => outcome,
+                Err(panic) => std::panic::resume_unwind(panic),
+            },
+            // No thread to be had: evaluate on this one.
+            Err(_) => evaluate_here(path, options),
+        }
+    })
+}
+
+fn evaluate_here(path: &Path, options: &Options) -> Outcome {
     let mut ev = Evaluator {
         options: options.clone(),
         sources: SourceMap::default(),
@@ -164,6 +211,15 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
         defs: Vec::new(),
         def_index: HashMap::new(),
         locals: Vec::new(),
+        funcs: Vec::new(),
+        func_index: HashMap::new(),
+        call_depth: 0,
+        loops: Vec::new(),
+        included_from: HashMap::new(),
+        include_failed: false,
+        syntax_failed: false,
+        defines: Vec::new(),
+        sym_locals: Vec::new(),
         def_stack: Vec::new(),
         dry: false,
         in_boundary: 0,
@@ -180,6 +236,14 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
     };
     let items = ev.load_all(path);
     ev.run(&items);
+    let notes: Vec<Vec<String>> = ev
+        .diagnostics
+        .iter()
+        .map(|d| d.span.map_or_else(Vec::new, |s| ev.include_notes(s.file)))
+        .collect();
+    for (d, n) in ev.diagnostics.iter_mut().zip(notes) {
+        d.notes.extend(n);
+    }
     let failed = ev.diagnostics.iter().any(Diagnostic::is_error);
     let mut assets: Vec<PathBuf> = (ev.caches.images.keys())
         .chain(ev.caches.meshes.keys())
@@ -206,7 +270,18 @@ pub fn evaluate(path: &Path, options: &Options) -> Outcome {
 
 impl Evaluator {
     /// Records a diagnostic; returns the failure marker for errors.
-    fn report(&mut self, d: Diagnostic) -> Fail {
+    fn report(&mut self, mut d: Diagnostic) -> Fail {
+        if let Some(span) = d.span {
+            d.notes.extend(self.define_notes(span));
+        }
+        if d.is_error() && !self.loops.is_empty() {
+            let values: Vec<String> = self
+                .loops
+                .iter()
+                .map(|(name, v)| format!("{name} = {v}"))
+                .collect();
+            d.notes.push(format!("when {}", values.join(", ")));
+        }
         self.diagnostics.push(d);
         Fail
     }
@@ -244,24 +319,21 @@ impl Evaluator {
                         self.object_spans.push(statement_span(stmt));
                     }
                 }
-                Item::Let { .. } | Item::Param { .. } | Item::Include { .. } => {}
+                Item::Let { .. } | Item::Param { .. } | Item::Fn(_) | Item::Include { .. } => {}
             }
         }
         self.finish_settings();
         self.check_motions();
         self.check_unused();
+        self.warn_unused_fns();
     }
 
     fn duplicate_block(&mut self, what: &str, span: Span, first: Span) {
         self.report(
-            Diagnostic::error(
-                "rtlang::duplicate",
-                span,
-                format!("a second `{what}` block"),
-            )
-            .label("second one here")
-            .related(first, "first one here")
-            .help(format!("merge the two `{what}` blocks into one")),
+            Diagnostic::error(Code::Duplicate, span, format!("a second `{what}` block"))
+                .label("second one here")
+                .related(first, "first one here")
+                .help(format!("merge the two `{what}` blocks into one")),
         );
     }
 

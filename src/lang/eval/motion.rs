@@ -7,13 +7,15 @@ use super::props::Allow;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Arg, BinOp, Expr, ExprKind, Stmt, TransformKind};
+use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::expr::Sym;
 use crate::lang::source::Span;
 use crate::scene::motion::{Finiteness, MotionStep, Program};
 
 /// A symbolic value: a scalar or a vector of scalars.
-enum SymVal {
+#[derive(Clone)]
+pub(super) enum SymVal {
     Scalar(Sym),
     Vector(Vec<Sym>),
 }
@@ -32,7 +34,7 @@ impl Evaluator {
                 };
                 self.report(
                     Diagnostic::error(
-                        "rtlang::misplaced",
+                        Code::Misplaced,
                         *span,
                         "a motion block inside a motion block",
                     )
@@ -153,7 +155,7 @@ impl Evaluator {
 
     fn sym_type(&mut self, span: Span, want: &str) -> Fail {
         self.report(
-            Diagnostic::error("rtlang::type", span, format!("expected {want} here"))
+            Diagnostic::error(Code::Type, span, format!("expected {want} here"))
                 .label("wrong type")
                 .help("motion transforms take the same arguments as static ones, as expressions of `t`"),
         )
@@ -175,6 +177,11 @@ impl Evaluator {
 
     /// The symbolic value of `e`.
     fn sym(&mut self, e: &Expr) -> Eval<SymVal> {
+        if let ExprKind::Name(n) = &e.kind {
+            if let Some((_, v)) = self.sym_locals.iter().rev().find(|(l, _)| l == n) {
+                return Ok(v.clone());
+            }
+        }
         match &e.kind {
             ExprKind::Number(v) => Ok(SymVal::Scalar(Sym::Const(*v))),
             ExprKind::Name(n) if n == "t" && !self.locals.iter().any(|(l, _)| l == "t") => {
@@ -196,7 +203,10 @@ impl Evaluator {
                 let (va, vb) = (self.sym(a), self.sym(b));
                 self.sym_binary(*op, va?, vb?, e.span, b.span)
             }
-            ExprKind::Call { callee, args } => self.sym_call(&callee.name, callee, args, e.span),
+            ExprKind::Call { callee, args } => match self.func_index.get(&callee.name) {
+                Some(&index) => self.sym_user_call(index, args, e.span),
+                None => self.sym_call(&callee.name, callee, args, e.span),
+            },
             _ => match self.expr(e)? {
                 Value::Num(x) => Ok(SymVal::Scalar(Sym::Const(x))),
                 Value::Vec3(v) => Ok(SymVal::Vector(v.to_array().map(Sym::Const).to_vec())),
@@ -221,7 +231,7 @@ impl Evaluator {
         let scalar = |ev: &mut Evaluator, x: Sym, y: Sym| -> Eval<Sym> {
             if op == BinOp::Div && y.constant() == Some(0.0) {
                 return Err(ev.report(
-                    Diagnostic::error("rtlang::division-by-zero", rhs, "division by zero")
+                    Diagnostic::error(Code::DivisionByZero, rhs, "division by zero")
                         .label("this is zero")
                         .help("the divisor must not be 0"),
                 ));
@@ -249,15 +259,56 @@ impl Evaluator {
                     .collect(),
             )),
             _ => Err(self.report(
-                Diagnostic::error(
-                    "rtlang::type",
-                    span,
-                    "these operands do not fit this operator",
-                )
-                .label("wrong types")
-                .help("arithmetic works on numbers, and on vectors with vectors or numbers"),
+                Diagnostic::error(Code::Type, span, "these operands do not fit this operator")
+                    .label("wrong types")
+                    .help("arithmetic works on numbers, and on vectors with vectors or numbers"),
             )),
         }
+    }
+
+    /// A user function called in a motion: its body evaluated symbolically
+    /// with the parameters bound to the (symbolic) arguments, so arithmetic
+    /// on `t` compiles into the same program. Constant arguments are also
+    /// ordinary values, for the parts of the body that are not arithmetic.
+    fn sym_user_call(&mut self, index: usize, args: &[Arg], span: Span) -> Eval<SymVal> {
+        if !self.dry {
+            self.funcs[index].used = true;
+        }
+        let def = self.funcs[index].def.clone();
+        let bound = self.bind(&def, args, span, |ev, e| ev.sym(e))?;
+        self.check_call_depth(&def, span)?;
+        let start = self.diagnostics.len();
+        let outer = std::mem::take(&mut self.locals);
+        let outer_sym = std::mem::take(&mut self.sym_locals);
+        self.call_depth += 1;
+        let mut result = Ok(SymVal::Scalar(Sym::Const(0.0)));
+        for b in bound {
+            let value = match (b.value, b.default) {
+                (Some(v), _) => v,
+                (None, Some(d)) => match self.sym(d) {
+                    Ok(v) => v,
+                    Err(f) => {
+                        result = Err(f);
+                        break;
+                    }
+                },
+                (None, None) => unreachable!("bind reports missing arguments"),
+            };
+            if let Some(v) = constant_value(&value) {
+                self.locals.push((b.name.name.clone(), v));
+            }
+            self.sym_locals.push((b.name.name.clone(), value));
+        }
+        if result.is_ok() {
+            result = self.sym(&def.body);
+        }
+        self.call_depth -= 1;
+        self.locals = outer;
+        self.sym_locals = outer_sym;
+        if result.is_err() {
+            self.note_call_site(start, &def, span);
+        }
+        result
     }
 
     fn sym_call(
@@ -333,6 +384,21 @@ impl Evaluator {
                 span,
                 &format!("a number or a vector, not {}", other.type_name()),
             )),
+        }
+    }
+}
+
+/// The ordinary value of a symbolic one that does not depend on `t`.
+fn constant_value(v: &SymVal) -> Option<Value> {
+    match v {
+        SymVal::Scalar(s) => s.constant().map(Value::Num),
+        SymVal::Vector(items) => {
+            let c: Option<Vec<f64>> = items.iter().map(Sym::constant).collect();
+            match c?[..] {
+                [x, y] => Some(Value::Vec2(glam::DVec2::new(x, y))),
+                [x, y, z] => Some(Value::Vec3(glam::DVec3::new(x, y, z))),
+                _ => None,
+            }
         }
     }
 }

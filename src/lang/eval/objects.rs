@@ -2,6 +2,7 @@
 //! surfaces of revolution, media, groups, loops and placements of defined
 //! objects (as shared prototypes when placed more than once).
 
+use crate::lang::codes::Code;
 use glam::{DVec2, DVec3};
 
 use super::props::{Allow, Block};
@@ -9,6 +10,7 @@ use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Object, ObjectKind, RectPlane, Stmt};
 use crate::lang::diagnostics::Diagnostic;
+use crate::lang::properties;
 use crate::lang::source::Span;
 use crate::scene::object::{RectPlane as Plane, RevolutionMode};
 use crate::scene::{MaterialId, Node, Shape};
@@ -16,12 +18,13 @@ use crate::scene::{MaterialId, Node, Shape};
 /// The most loop iterations one `repeat` may run.
 const MAX_ITERATIONS: f64 = 10_000_000.0;
 
-const fn allow(what: &'static str, props: &'static [&'static str], children: bool) -> Allow {
+/// A block that takes no property, only transforms and objects.
+fn holder(what: &'static str) -> Allow {
     Allow {
         what,
-        props,
+        props: &[],
         transforms: true,
-        children,
+        children: true,
         size: false,
         shutter: false,
     }
@@ -32,7 +35,9 @@ impl Evaluator {
     pub(super) fn top_stmt(&mut self, stmt: &Stmt) -> Eval<Option<Node>> {
         match stmt {
             Stmt::Object(o) => self.object(o).map(Some),
-            Stmt::Place { name, body, .. } => self.place(name, body).map(Some),
+            Stmt::Place {
+                name, args, body, ..
+            } => self.place(name, args.as_deref(), body).map(Some),
             Stmt::If {
                 cond,
                 then,
@@ -51,7 +56,7 @@ impl Evaluator {
                     }
                 };
                 Err(self.report(
-                    Diagnostic::error("rtlang::misplaced", span, "this belongs inside a block")
+                    Diagnostic::error(Code::Misplaced, span, "this belongs inside a block")
                         .label("not allowed at top level")
                         .help("properties and transforms go inside an object, `render` or `camera` block"),
                 ))
@@ -63,55 +68,39 @@ impl Evaluator {
     pub(super) fn object(&mut self, o: &Object) -> Eval<Node> {
         let (node, block) = match &o.kind {
             ObjectKind::Sphere => {
-                let b = self.block(
-                    &o.body,
-                    &allow("sphere", &["center", "radius", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::SPHERE, true));
                 (self.sphere(&b, o), b)
             }
             ObjectKind::Plane => {
-                let b = self.block(
-                    &o.body,
-                    &allow("plane", &["point", "offset", "normal", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::PLANE, true));
                 (self.plane(&b, o), b)
             }
             ObjectKind::Rect(plane) => {
-                let b = self.block(
-                    &o.body,
-                    &allow("rect", &["from", "to", "at", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::RECT, true));
                 (self.rect(&b, *plane, o), b)
             }
             ObjectKind::Box => {
-                let b = self.block(&o.body, &allow("box", &["min", "max", "material"], false));
+                let b = self.block(&o.body, &Allow::props(&properties::BOX, true));
                 (self.cuboid(&b, o), b)
             }
             ObjectKind::Triangle => {
-                let b = self.block(
-                    &o.body,
-                    &allow("triangle", &["a", "b", "c", "material"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::TRIANGLE, true));
                 (self.triangle(&b, o), b)
             }
             ObjectKind::Mesh(path) => {
-                let b = self.block(&o.body, &allow("mesh", &["material"], false));
+                let b = self.block(&o.body, &Allow::props(&properties::MESH, true));
                 (self.mesh_node(&b, path), b)
             }
             ObjectKind::Revolve(curve) => {
-                let props = &["material", "mode", "resolution", "tolerance"];
-                let b = self.block(&o.body, &allow("revolve", props, false));
+                let b = self.block(&o.body, &Allow::props(&properties::REVOLVE, true));
                 (self.revolve(&b, curve, o), b)
             }
             ObjectKind::Medium => {
-                let b = self.block(
-                    &o.body,
-                    &allow("medium", &["boundary", "density", "color"], false),
-                );
+                let b = self.block(&o.body, &Allow::props(&properties::MEDIUM, true));
                 (self.medium(&b, o), b)
             }
             ObjectKind::Group => {
-                let b = self.block(&o.body, &allow("group", &[], true));
+                let b = self.block(&o.body, &holder("group"));
                 (self.children(&b.children).map(Node::Group), b)
             }
             ObjectKind::Repeat { var, from, to } => return self.repeat(var, from, to, o),
@@ -137,7 +126,7 @@ impl Evaluator {
         } else {
             otherwise
         };
-        let allow = allow("if", &[], true);
+        let allow = holder("if");
         let block = self.block(
             branch,
             &Allow {
@@ -181,9 +170,17 @@ impl Evaluator {
     }
 
     fn missing(&mut self, o: &Object, name: &str, help: &str) -> Fail {
+        // A misspelt `name` is already reported as an unknown property.
+        let misspelt = o.body.iter().any(|s| {
+            matches!(s, Stmt::Property { name: p, .. }
+                if crate::lang::names::suggest(&p.name, [name]).is_some())
+        });
+        if misspelt {
+            return Fail;
+        }
         self.report(
             Diagnostic::error(
-                "rtlang::missing-property",
+                Code::MissingProperty,
                 o.head,
                 format!("this object needs a `{name}`"),
             )
@@ -230,7 +227,7 @@ impl Evaluator {
             (Some(_), Some((_, s))) => {
                 return Err(self.report(
                     Diagnostic::error(
-                        "rtlang::conflict",
+                        Code::Conflict,
                         s,
                         "a plane takes `point` or `offset`, not both",
                     )
@@ -362,7 +359,7 @@ impl Evaluator {
             Ok(Value::Curve(c)) => Ok(c),
             Ok(other) => Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     curve.span,
                     format!("expected a curve, found {}", other.type_name()),
                 )
@@ -426,13 +423,9 @@ impl Evaluator {
             "mesh" => Ok(false),
             "analytic" => Ok(true),
             _ => Err(self.report(
-                Diagnostic::error(
-                    "rtlang::unknown-name",
-                    e.span,
-                    format!("unknown mode `{word}`"),
-                )
-                .label("not a mode")
-                .help("the mode is `mesh` or `analytic`"),
+                Diagnostic::error(Code::UnknownName, e.span, format!("unknown mode `{word}`"))
+                    .label("not a mode")
+                    .help("the mode is `mesh` or `analytic`"),
             )),
         }
     }
@@ -443,7 +436,7 @@ impl Evaluator {
             Ok(Some((Value::Object(node), _))) => Ok((*node).clone()),
             Ok(Some((other, s))) => Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     s,
                     format!("expected an object, found {}", other.type_name()),
                 )
@@ -514,22 +507,17 @@ impl Evaluator {
             ),
             "use a mesh for very many primitives",
         )?;
-        let allow = Allow {
-            what: "repeat",
-            props: &[],
-            transforms: true,
-            children: true,
-            size: false,
-            shutter: false,
-        };
+        let allow = holder("repeat");
         let block = self.block(&o.body, &allow);
         let mut nodes = Vec::new();
         let mut i = lo;
         let mut failed = false;
         while i < hi {
-            self.locals.push((var.name.clone(), i));
+            self.locals.push((var.name.clone(), Value::Num(i)));
+            self.loops.push((var.name.clone(), i));
             let children = self.children(&block.children);
             let transforms = self.apply_transforms(&block.transforms);
+            self.loops.pop();
             self.locals.pop();
             match (children, transforms) {
                 (Ok(children), Ok(t)) if t.is_identity() => nodes.extend(children),
@@ -548,16 +536,25 @@ impl Evaluator {
     }
 
     /// `place NAME { transforms }`: the defined object, shared as a
-    /// prototype when placed more than once.
-    pub(super) fn place(&mut self, name: &crate::lang::ast::Ident, body: &[Stmt]) -> Eval<Node> {
+    /// prototype when placed more than once; `place NAME(args) { ... }`:
+    /// the object a function call returns.
+    pub(super) fn place(
+        &mut self,
+        name: &crate::lang::ast::Ident,
+        args: Option<&[crate::lang::ast::Arg]>,
+        body: &[Stmt],
+    ) -> Eval<Node> {
         let allow = Allow::transforms_only("place");
         let block = self.block(body, &allow);
         let transforms = self.apply_transforms(&block.transforms);
-        let value = self.lookup(&name.name, name.span)?;
+        let value = match args {
+            Some(args) => self.call(name, args, name.span)?,
+            None => self.lookup(&name.name, name.span)?,
+        };
         let Value::Object(node) = value else {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     name.span,
                     format!("`{}` is {}, not an object", name.name, value.type_name()),
                 )
@@ -565,7 +562,10 @@ impl Evaluator {
                 .help("`place` takes a name defined as an object, e.g. `let x = sphere { ... }`"),
             ));
         };
-        let index = self.def_index.get(&name.name).copied();
+        let index = args
+            .is_none()
+            .then(|| self.def_index.get(&name.name).copied())
+            .flatten();
         let many = self.place_counts.get(&name.name).copied().unwrap_or(0) > 1;
         let placed = match index {
             Some(index) if many => {

@@ -3,6 +3,7 @@
 //! check), transforms in order, child objects, and the `size` / `shutter`
 //! forms, with typed property getters.
 
+use crate::lang::codes::Code;
 use glam::{DVec2, DVec3};
 
 use super::value::Value;
@@ -10,12 +11,14 @@ use super::{Eval, Evaluator};
 use crate::lang::ast::{Expr, Ident, Stmt};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::names;
+use crate::lang::properties::{Prop, Props};
 use crate::lang::source::Span;
 
 /// What a block may contain.
 pub(super) struct Allow {
     pub what: &'static str,
-    pub props: &'static [&'static str],
+    /// The named properties, declared in [`crate::lang::properties`].
+    pub props: &'static [Prop],
     pub transforms: bool,
     pub children: bool,
     pub size: bool,
@@ -23,6 +26,18 @@ pub(super) struct Allow {
 }
 
 impl Allow {
+    /// A block with the declared `props` and no children or special forms.
+    pub(super) fn props(props: &'static Props, transforms: bool) -> Allow {
+        Allow {
+            what: props.block,
+            props: props.props,
+            transforms,
+            children: false,
+            size: false,
+            shutter: false,
+        }
+    }
+
     /// A block that takes transforms and nothing else (`place`, `motion`).
     pub(super) fn transforms_only(what: &'static str) -> Allow {
         Allow {
@@ -67,7 +82,7 @@ impl Evaluator {
         for stmt in body {
             match stmt {
                 Stmt::Property { name, value, .. } => {
-                    if !allow.props.contains(&name.name.as_str()) {
+                    if !allow.props.iter().any(|p| p.name == name.name) {
                         self.unknown_property(name, allow);
                     } else if let Some((first, _)) =
                         block.props.iter().find(|(n, _)| n.name == name.name)
@@ -75,7 +90,7 @@ impl Evaluator {
                         let first = first.span;
                         self.report(
                             Diagnostic::error(
-                                "rtlang::duplicate",
+                                Code::Duplicate,
                                 name.span,
                                 format!("`{}` is given twice", name.name),
                             )
@@ -107,7 +122,7 @@ impl Evaluator {
     }
 
     fn unknown_property(&mut self, name: &Ident, allow: &Allow) {
-        let mut known: Vec<&str> = allow.props.to_vec();
+        let mut known: Vec<&str> = allow.props.iter().map(|p| p.name).collect();
         if allow.size {
             known.push("size");
         }
@@ -121,7 +136,7 @@ impl Evaluator {
         };
         self.report(
             Diagnostic::error(
-                "rtlang::unknown-property",
+                Code::UnknownProperty,
                 name.span,
                 format!("`{}` has no property `{}`", allow.what, name.name),
             )
@@ -146,12 +161,12 @@ impl Evaluator {
             && ((allow.size && matches!(stmt, Stmt::Size { .. }))
                 || (allow.shutter && matches!(stmt, Stmt::Shutter { .. })));
         let d = if twice {
-            Diagnostic::error("rtlang::duplicate", span, format!("{what} is given twice"))
+            Diagnostic::error(Code::Duplicate, span, format!("{what} is given twice"))
                 .label("second time")
                 .help("give each property once")
         } else {
             Diagnostic::error(
-                "rtlang::misplaced",
+                Code::Misplaced,
                 span,
                 format!("{what} cannot appear in `{}`", allow.what),
             )
@@ -225,7 +240,7 @@ impl Evaluator {
             Ok(())
         } else {
             Err(self.report(
-                Diagnostic::error("rtlang::range", span, message)
+                Diagnostic::error(Code::Range, span, message)
                     .label("out of range")
                     .help(help.to_string()),
             ))

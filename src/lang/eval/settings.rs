@@ -6,7 +6,9 @@ use super::props::Allow;
 use super::value::Value;
 use super::{Eval, Evaluator};
 use crate::lang::ast::{Item, Stmt};
+use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
+use crate::lang::properties;
 use crate::scene::Background;
 
 /// Bytes the renderer keeps per pixel (accumulator and output), for the
@@ -52,12 +54,8 @@ impl Evaluator {
 
     pub(super) fn render(&mut self, body: &[Stmt]) {
         let allow = Allow {
-            what: "render",
-            props: &["samples", "depth", "seed", "background", "fps"],
-            transforms: false,
-            children: false,
             size: true,
-            shutter: false,
+            ..Allow::props(&properties::RENDER, false)
         };
         let b = self.block(body, &allow);
         if let Some((w, h)) = b.size {
@@ -132,12 +130,8 @@ impl Evaluator {
 
     pub(super) fn camera(&mut self, body: &[Stmt]) {
         let allow = Allow {
-            what: "camera",
-            props: &["from", "at", "up", "fov", "aperture", "focus"],
-            transforms: false,
-            children: false,
-            size: false,
             shutter: true,
+            ..Allow::props(&properties::CAMERA, false)
         };
         let b = self.block(body, &allow);
         let cam = self.scene.camera;
@@ -252,14 +246,10 @@ impl Evaluator {
         let span = self.size_span;
         if bytes > MAX_PIXEL_BYTES {
             let d = match span {
-                Some(span) => Diagnostic::error(
-                    "rtlang::too-large",
-                    span,
-                    "the image would not fit in memory",
-                ),
-                None => {
-                    Diagnostic::global("rtlang::too-large", "the image would not fit in memory")
+                Some(span) => {
+                    Diagnostic::error(Code::TooLarge, span, "the image would not fit in memory")
                 }
+                None => Diagnostic::global(Code::TooLarge, "the image would not fit in memory"),
             };
             self.report(
                 d.label(format!(
@@ -277,8 +267,8 @@ impl Evaluator {
                 "{samples:.2e} samples in total is more than the {MAX_SAMPLES:.0e} allowed"
             );
             let d = match span {
-                Some(span) => Diagnostic::error("rtlang::too-large", span, message),
-                None => Diagnostic::global("rtlang::too-large", message),
+                Some(span) => Diagnostic::error(Code::TooLarge, span, message),
+                None => Diagnostic::global(Code::TooLarge, message),
             };
             self.report(
                 d.label("too many samples")

@@ -2,6 +2,7 @@
 //! in the order written, and wrapping a node in that chain. Consecutive
 //! static transforms fold into one matrix; singular ones are errors.
 
+use crate::lang::codes::Code;
 use glam::{DMat4, DVec3};
 
 use super::value::Value;
@@ -116,7 +117,7 @@ impl Evaluator {
         if cond.is_nan() || cond > MAX_CONDITION {
             return Err(self.report(
                 Diagnostic::error(
-                    "rtlang::singular",
+                    Code::Singular,
                     span,
                     "this transform is singular or nearly so (it flattens space)",
                 )
@@ -138,7 +139,7 @@ impl Evaluator {
         let wrong = |ev: &mut Evaluator, found: String| {
             ev.report(
                 Diagnostic::error(
-                    "rtlang::type",
+                    Code::Type,
                     span,
                     format!("a matrix is a list of 16 numbers, found {found}"),
                 )

@@ -1,5 +1,6 @@
 //! Values of the language, their type names, and arithmetic on them.
 
+use crate::lang::codes::Code;
 use std::rc::Rc;
 
 use glam::{DVec2, DVec3};
@@ -65,7 +66,7 @@ pub fn binary(op: crate::lang::ast::BinOp, a: &Value, b: &Value) -> Result<Value
     use Value::*;
     let mismatch = |help: &str| {
         Issue::new(
-            "rtlang::type",
+            Code::Type,
             format!(
                 "cannot apply `{}` to {} and {}",
                 symbol(op),
@@ -118,7 +119,7 @@ pub fn negate(a: &Value) -> Result<Value, Issue> {
         Value::Vec2(v) => Ok(Value::Vec2(-*v)),
         Value::Vec3(v) => Ok(Value::Vec3(-*v)),
         _ => Err(
-            Issue::new("rtlang::type", format!("cannot negate {}", a.type_name()))
+            Issue::new(Code::Type, format!("cannot negate {}", a.type_name()))
                 .help("`-` works on numbers and vectors"),
         ),
     }
@@ -136,7 +137,7 @@ pub fn scalar(op: crate::lang::ast::BinOp, x: f64, y: f64) -> Result<f64, Issue>
         Pow => x.powf(y),
         Lt | Le | Gt | Ge | Eq | Ne | And | Or => {
             return Err(Issue::new(
-                "rtlang::type",
+                Code::Type,
                 format!("`{}` gives a boolean, not a number", symbol(op)),
             )
             .help("use the comparison as the condition of an `if`"))
@@ -151,7 +152,7 @@ pub fn finite(r: f64) -> Result<f64, Issue> {
         Ok(r)
     } else {
         Err(
-            Issue::new("rtlang::not-finite", "the result is not a finite number")
+            Issue::new(Code::NotFinite, "the result is not a finite number")
                 .help("check for overflow, a negative square root or a logarithm of zero or less"),
         )
     }
@@ -159,7 +160,7 @@ pub fn finite(r: f64) -> Result<f64, Issue> {
 
 fn nonzero(y: f64) -> Result<f64, Issue> {
     if y == 0.0 {
-        Err(Issue::new("rtlang::division-by-zero", "division by zero")
+        Err(Issue::new(Code::DivisionByZero, "division by zero")
             .label("this is zero")
             .help("the divisor of a constant expression must not be 0"))
     } else {

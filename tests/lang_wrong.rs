@@ -1,0 +1,84 @@
+//! A second corpus of wrong scenes, written as a new user would get them
+//! wrong (not the snapshot cases of `tests/diagnostics/`). Each file's
+//! first line says which error it must give first and where:
+//! `// expect CODE at LINE:COLUMN `TOKEN``. The first error must have that
+//! code and start at that place, so the message names the real cause
+//! where it is, not where the parser gave up.
+
+use std::path::Path;
+
+use rtlang::lang::{self, diagnostics::render_plain, Options};
+
+/// Files whose first error is known NOT to be at the real cause yet, with
+/// why. The test fails if one of them starts passing, so the list stays true.
+const KNOWN_POOR: &[(&str, &str)] = &[(
+    "rotate_no_angle.rt",
+    "`rotate y material m` reads `material` as the angle, so the error is at `}`",
+)];
+
+#[test]
+fn every_wrong_scene_is_reported_at_its_cause() {
+    let mut files: Vec<_> = std::fs::read_dir("tests/wrong")
+        .expect("the corpus directory")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "rt"))
+        .collect();
+    files.sort();
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for path in &files {
+        let text = std::fs::read_to_string(path).expect("readable");
+        let header = text.lines().next().unwrap_or_default();
+        let Some(expect) = header.strip_prefix("// expect ") else {
+            panic!("{}: no expectation line", path.display())
+        };
+        if expect == "none" {
+            continue;
+        }
+        let mut parts = expect.split(' ');
+        let code = parts.next().unwrap_or_default();
+        let place = parts.nth(1).unwrap_or_default();
+        let outcome = lang::check(Path::new(path), &Options::default());
+        let first = outcome.diagnostics.iter().find(|d| d.is_error());
+        let got = first.map(|d| {
+            let at = d.span.map(|s| {
+                let f = outcome.sources.file(s.file);
+                let (l, c) = f.line_col(s.start as usize);
+                format!("{l}:{c}")
+            });
+            (d.code.as_str(), at.unwrap_or_default())
+        });
+        checked += 1;
+        let right = got.as_ref().map(|(c, p)| (*c, p.as_str())) == Some((code, place));
+        let file_name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default();
+        if KNOWN_POOR.iter().any(|(n, _)| *n == file_name) {
+            assert!(
+                !right,
+                "{file_name} is right now: remove it from KNOWN_POOR"
+            );
+            continue;
+        }
+        if !right {
+            let shown: Vec<String> = outcome
+                .diagnostics
+                .iter()
+                .map(|d| render_plain(&d.to_report(&outcome.sources), 90))
+                .collect();
+            wrong.push(format!(
+                "{}: expected {code} at {place}, got {got:?}\n{}",
+                path.display(),
+                shown.join("\n")
+            ));
+        }
+    }
+    assert!(checked >= 40, "only {checked} wrong scenes");
+    assert!(
+        wrong.is_empty(),
+        "{} of {checked}:\n{}",
+        wrong.len(),
+        wrong.join("\n")
+    );
+}
