@@ -15,7 +15,7 @@ fn codes(text: &str, tag: &str) -> Vec<&'static str> {
     lang::check(&path, &Options::default())
         .diagnostics
         .iter()
-        .map(|d| d.code)
+        .map(|d| d.code.as_str())
         .collect()
 }
 

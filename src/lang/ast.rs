@@ -259,6 +259,7 @@ impl Item {
             | Item::Include { span, .. }
             | Item::Render { span, .. }
             | Item::Camera { span, .. } => *span,
+            Item::Fn(f) => f.span,
             Item::Stmt(stmt) => stmt.span(),
         }
     }

@@ -65,6 +65,9 @@ codes! {
     NotUtf8 = "rtlang::not-utf8",
     FileTooLarge = "rtlang::file-too-large",
     Unused = "rtlang::unused",
+    MemoryBudget = "rtlang::memory-budget",
+    MotionNotFinite = "rtlang::motion-not-finite",
+    MotionUnproven = "rtlang::motion-unproven",
 }
 
 impl fmt::Display for Code {

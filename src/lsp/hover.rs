@@ -15,7 +15,9 @@ pub fn hover(doc: &Document, at: usize) -> Option<Hover> {
             .get(&def.name_span.start)
             .map_or("not evaluated".to_string(), Clone::clone);
         match (def.kind, &def.value) {
+            (DefKind::Argument, _) => format!("`{}`: a parameter of the function", def.name),
             (DefKind::Loop, _) | (_, None) => format!("`{}`: a loop variable (a number)", def.name),
+            (DefKind::Function, Some(source)) => format!("```rt\nfn {}{source}\n```", def.name),
             (kind, Some(source)) => {
                 let kw = if kind == DefKind::Let { "let" } else { "param" };
                 format!("```rt\n{kw} {} = {source}\n```\n{value}", def.name)

@@ -1,5 +1,5 @@
 //! What the editor features need from one file's syntax tree: definitions
-//! (`let`, `param`, `repeat` variables with their scope), every use of a
+//! (`let`, `param`, `fn` and its parameters, `repeat` variables with their scope), every use of a
 //! name, includes, property names, callees and the outline.
 
 use crate::lang::ast::*;
@@ -11,6 +11,17 @@ pub enum DefKind {
     Param,
     /// A `repeat` variable, visible only in its loop.
     Loop,
+    /// A user-defined function (`fn`).
+    Function,
+    /// A function's parameter, visible only in its body.
+    Argument,
+}
+
+impl DefKind {
+    /// Whether the name is visible only inside its definition's span.
+    pub fn is_scoped(self) -> bool {
+        matches!(self, DefKind::Loop | DefKind::Argument)
+    }
 }
 
 /// A name defined in the file.
@@ -57,7 +68,7 @@ impl Index {
         if let Some(def) = self
             .defs
             .iter()
-            .find(|d| contains(d.name_span, at) && d.kind != DefKind::Loop)
+            .find(|d| contains(d.name_span, at) && !d.kind.is_scoped())
         {
             return Some(def);
         }
@@ -80,12 +91,12 @@ impl Index {
     pub fn lookup(&self, name: &str, at: usize) -> Option<&Def> {
         self.defs
             .iter()
-            .filter(|d| d.name == name && d.kind == DefKind::Loop && contains(d.span, at))
+            .filter(|d| d.name == name && d.kind.is_scoped() && contains(d.span, at))
             .min_by_key(|d| d.span.len())
             .or_else(|| {
                 self.defs
                     .iter()
-                    .find(|d| d.name == name && d.kind != DefKind::Loop)
+                    .find(|d| d.name == name && !d.kind.is_scoped())
             })
     }
 
@@ -110,7 +121,7 @@ impl Index {
     pub fn in_scope(&self, at: usize) -> impl Iterator<Item = &Def> {
         self.defs
             .iter()
-            .filter(move |d| d.kind != DefKind::Loop || contains(d.span, at))
+            .filter(move |d| !d.kind.is_scoped() || contains(d.span, at))
     }
 
     fn item(&mut self, item: &Item) {
@@ -132,6 +143,7 @@ impl Index {
                 self.outline.push((name.name.clone(), label, *span));
                 self.expr(value);
             }
+            Item::Fn(f) => self.function(f),
             Item::Include { path, span } => self.includes.push((path.clone(), *span)),
             Item::Render { body, span } | Item::Camera { body, span } => {
                 let kind = if matches!(item, Item::Render { .. }) {
@@ -150,6 +162,44 @@ impl Index {
                 self.stmt(stmt);
             }
         }
+    }
+
+    /// A function: its name, its parameters (visible in the body only) and
+    /// the uses in their defaults and the body.
+    fn function(&mut self, f: &Function) {
+        let params: Vec<String> = f
+            .params
+            .iter()
+            .map(|p| match &p.default {
+                Some(d) => format!("{}: {}", p.name.name, crate::lang::pretty::expr(d)),
+                None => p.name.name.clone(),
+            })
+            .collect();
+        self.defs.push(Def {
+            name: f.name.name.clone(),
+            kind: DefKind::Function,
+            name_span: f.name.span,
+            span: f.span,
+            value: Some(format!(
+                "({}) = {}",
+                params.join(", "),
+                crate::lang::pretty::expr(&f.body)
+            )),
+        });
+        self.outline.push((f.name.name.clone(), "fn", f.span));
+        for p in &f.params {
+            self.defs.push(Def {
+                name: p.name.name.clone(),
+                kind: DefKind::Argument,
+                name_span: p.name.span,
+                span: f.span,
+                value: None,
+            });
+            if let Some(d) = &p.default {
+                self.expr(d);
+            }
+        }
+        self.expr(&f.body);
     }
 
     fn stmts(&mut self, body: &[Stmt]) {
@@ -186,8 +236,11 @@ impl Index {
                 self.stmts(body);
             }
             Stmt::Object(o) => self.object(o),
-            Stmt::Place { name, body, .. } => {
+            Stmt::Place {
+                name, args, body, ..
+            } => {
                 self.uses.push((name.name.clone(), name.span));
+                args.iter().flatten().for_each(|a| self.expr(&a.value));
                 self.stmts(body);
             }
             Stmt::Flip { .. } => {}
@@ -231,6 +284,9 @@ impl Index {
             }
             ExprKind::Call { callee, args } => {
                 self.callees.push(callee.span);
+                // A user function's call is a use of its name (a built-in's
+                // finds no definition).
+                self.uses.push((callee.name.clone(), callee.span));
                 args.iter().for_each(|a| self.expr(&a.value));
             }
             ExprKind::Neg(x) | ExprKind::Not(x) => self.expr(x),

@@ -37,7 +37,7 @@ fn included_definition(dir: &Path, index: &Index, name: &str) -> Option<Location
         let def = Index::new(&ast)
             .defs
             .into_iter()
-            .find(|d| d.name == name && d.kind != super::index::DefKind::Loop)?;
+            .find(|d| d.name == name && !d.kind.is_scoped())?;
         let range =
             Lines::new(&text).range(def.name_span.start as usize, def.name_span.end as usize);
         Some(Location::new(path_to_uri(&target)?, range))

@@ -9,9 +9,9 @@ use std::time::{Duration, Instant};
 use glam::Vec3;
 
 use super::camera::CameraRays;
-use crate::sampling::{Rng, Sampler};
 use super::RenderOptions;
 use crate::geometry::{Aabb, Ray, World};
+use crate::sampling::{Rng, Sampler};
 use crate::scene::Scene;
 
 /// How many rays were traced, how many hit, and the wall time they took.

@@ -9,6 +9,7 @@
 //! budget", says how).
 
 use super::{Eval, Evaluator, Fail};
+use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::Span;
 use crate::scene::object::RevolutionMode;
@@ -104,7 +105,7 @@ impl Evaluator {
         self.memory.refused = true;
         Err(self.report(
             Diagnostic::error(
-                "rtlang::memory-budget",
+                Code::MemoryBudget,
                 span,
                 format!(
                     "the scene would need about {} of memory, more than the budget of {}",

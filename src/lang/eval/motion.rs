@@ -81,7 +81,7 @@ impl Evaluator {
                     // Bounds are conservative: no time found where it fails.
                     self.diagnostics.push(
                         Diagnostic::warning(
-                            "rtlang::motion-unproven",
+                            Code::MotionUnproven,
                             span,
                             format!(
                                 "this motion could not be proved finite over the shutter [{open}, {close}]"
@@ -96,7 +96,7 @@ impl Evaluator {
             let label = format!("NaN or infinite at t = {t}");
             self.report(
                 Diagnostic::error(
-                    "rtlang::motion-not-finite",
+                    Code::MotionNotFinite,
                     span,
                     format!(
                         "this motion is not a finite number for every time of the shutter [{open}, {close}]"
