@@ -18,6 +18,7 @@ use rtlang::render::checkpoint::{self, Header};
 use rtlang::render::output::{write_image, Format};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
+use rtlang::render::sampler::SamplerKind;
 use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
 
 use super::split::{self, Tile};
@@ -99,6 +100,10 @@ pub struct RenderArgs {
     /// `nee`: light sampling with MIS (default); `path`: plain path tracing.
     #[arg(long, value_enum, default_value_t = Integrator::Nee)]
     integrator: Integrator,
+    /// Where sample numbers come from: Owen-scrambled Sobol' (default) or
+    /// independent random numbers.
+    #[arg(long, value_enum, default_value_t = SamplerArg::Sobol)]
+    sampler: SamplerArg,
     /// Cap each sample's radiance at this value (removes fireflies; biased).
     #[arg(long)]
     clamp: Option<f32>,
@@ -119,6 +124,15 @@ pub enum Integrator {
     Path,
     /// Next-event estimation with multiple importance sampling.
     Nee,
+}
+
+/// The sampler `--sampler` selects.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SamplerArg {
+    /// Owen-scrambled Sobol' points, padded per dimension pair.
+    Sobol,
+    /// Independent PCG32 random numbers.
+    Independent,
 }
 
 fn parse_duration(s: &str) -> Result<Duration, String> {
@@ -380,6 +394,10 @@ fn options_for(
     options.threads = args.threads;
     options.pass = args.pass;
     options.light_sampling = args.integrator == Integrator::Nee;
+    options.sampler = match args.sampler {
+        SamplerArg::Sobol => SamplerKind::Sobol,
+        SamplerArg::Independent => SamplerKind::Independent,
+    };
     options.clamp = args.clamp;
     options.noise = args.noise;
     if args.time.is_some() {

@@ -13,7 +13,7 @@ use std::time::Instant;
 use glam::Vec3;
 
 use super::camera::CameraRays;
-use super::rng::Rng;
+use super::sampler::{Sampler, SamplerKind};
 use super::{render, RenderError, RenderOptions};
 use crate::geometry::revolution::surface_distance;
 use crate::geometry::{BuildError, World};
@@ -112,9 +112,9 @@ fn hit_errors(scene: &Scene, options: &RenderOptions) -> Result<(f64, f64, usize
     let (mut max, mut sum, mut hits) = (0.0f64, 0.0, 0usize);
     for y in 0..options.height {
         for x in 0..options.width {
-            let mut rng = Rng::for_sample(options.seed, x, y, 0);
-            let ray = camera.ray(x, y, &mut rng);
-            if let Some(h) = world.intersect(&ray, 1e-4, f32::INFINITY, &mut rng) {
+            let mut sampler = Sampler::new(SamplerKind::Independent, options.seed, x, y, 0);
+            let ray = camera.ray(x, y, &mut sampler);
+            if let Some(h) = world.intersect(&ray, 1e-4, f32::INFINITY, sampler.rng()) {
                 let d = curves
                     .iter()
                     .map(|c| surface_distance(c, h.point))

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::rng::Rng;
+use super::sampler::{Dim, Sampler};
 use crate::geometry::Ray;
 use crate::scene::Camera;
 
@@ -50,14 +50,16 @@ impl CameraRays {
 
     /// A ray through pixel `(x, y)` (row 0 at the top), jittered within it.
     #[inline]
-    pub fn ray(&self, x: u32, y: u32, rng: &mut Rng) -> Ray {
-        let s = (x as f32 + rng.next_f32()) / self.size.0;
-        let t = 1.0 - (y as f32 + rng.next_f32()) / self.size.1;
-        let (dx, dy) = rng.in_unit_disk();
+    pub fn ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
+        sampler.begin(Dim::Camera);
+        let (jx, jy) = sampler.next_2d();
+        let s = (x as f32 + jx) / self.size.0;
+        let t = 1.0 - (y as f32 + jy) / self.size.1;
+        let (dx, dy) = sampler.in_unit_disk();
         let offset = self.lens_radius * (dx * self.u + dy * self.v);
         let origin = self.origin + offset;
         let target = self.lower_left + s * self.horizontal + t * self.vertical;
-        let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * rng.next_f32();
+        let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * sampler.next_1d();
         Ray::new(origin, (target - origin).normalize(), time)
     }
 }
@@ -65,6 +67,7 @@ impl CameraRays {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::sampler::SamplerKind;
 
     #[test]
     fn centre_ray_looks_at_target_and_time_stays_in_shutter() {
@@ -75,14 +78,18 @@ mod tests {
             ..Camera::default()
         };
         let rays = CameraRays::new(&cam, 101, 101);
-        let mut rng = Rng::for_sample(0, 50, 50, 0);
-        for _ in 0..100 {
-            let r = rays.ray(50, 50, &mut rng);
+        for i in 0..100 {
+            let mut sampler = Sampler::new(SamplerKind::Sobol, 0, 50, 50, i);
+            let r = rays.ray(50, 50, &mut sampler);
             assert!(r.dir.dot(Vec3::Z) > 0.9999);
             assert!((0.25..=0.5).contains(&r.time));
         }
         // Pixel column 0 is on the image's left: +x for a camera looking +z.
-        let left = rays.ray(0, 50, &mut rng);
+        let left = rays.ray(
+            0,
+            50,
+            &mut Sampler::new(SamplerKind::Independent, 0, 0, 50, 0),
+        );
         assert!(left.dir.x > 0.0);
     }
 }

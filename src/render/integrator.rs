@@ -15,7 +15,7 @@ use glam::Vec3;
 
 use super::lights::LightList;
 use super::material::interact;
-use super::rng::Rng;
+use super::sampler::{Dim, Sampler};
 use super::texture::lookup;
 use crate::geometry::ray::offset_origin;
 use crate::geometry::{Hit, Ray, World};
@@ -61,7 +61,7 @@ impl Tracer<'_> {
     /// The radiance arriving along `ray` (unit direction) and the number of
     /// rays traced for it (shadow rays included).
     #[inline]
-    pub fn radiance(&self, mut ray: Ray, rng: &mut Rng) -> (Vec3, u32) {
+    pub fn radiance(&self, mut ray: Ray, rng: &mut Sampler) -> (Vec3, u32) {
         let lights = self.world.lights();
         let nee = self.light_sampling && !lights.is_empty();
         let mut radiance = Vec3::ZERO;
@@ -70,10 +70,12 @@ impl Tracer<'_> {
         let mut rays = 0u32;
         for depth in 0..self.max_depth {
             rays += 1;
-            let Some(hit) = self.world.intersect(&ray, 0.0, f32::INFINITY, rng) else {
+            rng.start_bounce(depth);
+            let Some(hit) = self.world.intersect(&ray, 0.0, f32::INFINITY, rng.rng()) else {
                 radiance += throughput * background(&self.scene.settings.background, ray.dir);
                 return (radiance, rays);
             };
+            rng.begin(Dim::Bsdf);
             let step = interact(self.scene, &hit, ray.dir, rng);
             if step.emitted != Vec3::ZERO {
                 let weight = match previous {
@@ -134,7 +136,8 @@ impl Tracer<'_> {
             throughput *= attenuation;
             if depth >= ROULETTE_AFTER {
                 let survive = throughput.max_element().min(0.95);
-                if rng.next_f32() >= survive {
+                rng.begin(Dim::Roulette);
+                if rng.next_1d() >= survive {
                     return (radiance, rays);
                 }
                 throughput /= survive;
@@ -155,11 +158,12 @@ impl Tracer<'_> {
         lights: &LightList,
         hit: &Hit,
         time: f32,
-        rng: &mut Rng,
+        rng: &mut Sampler,
         scatter: impl Fn(Vec3) -> Option<(Vec3, f32)>,
         throughput: Vec3,
         radiance: &mut Vec3,
     ) -> u32 {
+        rng.begin(Dim::Light);
         let Some(s) = lights.sample(hit.point, rng) else {
             return 0;
         };
@@ -172,7 +176,11 @@ impl Tracer<'_> {
         let origin = offset_origin(hit.point, hit.geo_normal, s.dir);
         let shadow = Ray::new(origin, s.dir, time);
         let t_max = s.dist * (1.0 - SHADOW_SHORTEN);
-        if self.world.intersect(&shadow, 0.0, t_max, rng).is_some() {
+        if self
+            .world
+            .intersect(&shadow, 0.0, t_max, rng.rng())
+            .is_some()
+        {
             return 1;
         }
         let weight = power_heuristic(s.pdf, scatter_pdf);

@@ -15,7 +15,7 @@ use std::f32::consts::TAU;
 use glam::Mat4;
 use glam::{Affine3A, Mat3A, Vec3};
 
-use super::rng::Rng;
+use super::sampler::Sampler;
 use crate::scene::object::RectPlane;
 use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
 
@@ -169,13 +169,13 @@ impl LightList {
 
     /// Samples a light point seen from `p`; `None` if there is no light or
     /// the chosen point emits nothing towards `p`.
-    pub fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<LightSample> {
+    pub fn sample(&self, p: Vec3, rng: &mut Sampler) -> Option<LightSample> {
         let last = self.lights.len().checked_sub(1)?;
-        let u = rng.next_f32() * self.total;
+        let u = rng.next_1d() * self.total;
         let i = self.cdf.partition_point(|&c| c <= u).min(last);
         let light = &self.lights[i];
         let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
-        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        let (u1, u2) = rng.next_2d();
         let (x, n, pdf) = match light.shape {
             LightShape::Sphere { center, radius } => {
                 let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
@@ -515,6 +515,7 @@ impl Walker<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::sampler::SamplerKind;
     use crate::render::scenes::cornell_box;
 
     #[test]
@@ -556,7 +557,7 @@ mod tests {
         p: Vec3,
         normal_at: impl Fn(Vec3) -> Vec3,
     ) -> f64 {
-        let mut rng = Rng::for_sample(1, 0, 0, 0);
+        let mut rng = Sampler::new(SamplerKind::Independent, 1, 0, 0, 0);
         let n = 40_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
@@ -627,7 +628,7 @@ mod tests {
             two_sided: false,
         };
         let list = LightList::build(&one_sided);
-        let mut rng = Rng::for_sample(2, 0, 0, 0);
+        let mut rng = Sampler::new(SamplerKind::Independent, 2, 0, 0, 0);
         assert!(list.sample(Vec3::ZERO, &mut rng).is_none());
         assert!(list.sample(Vec3::new(0.0, 0.0, 2.0), &mut rng).is_some());
         let mut moving = scene;

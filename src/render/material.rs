@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::rng::Rng;
+use super::sampler::Sampler;
 use super::texture::lookup;
 use crate::geometry::Hit;
 use crate::scene::{Material, Scene};
@@ -19,7 +19,7 @@ pub struct Interaction {
 
 /// How the material of `hit` scatters a path arriving along unit `dir`.
 #[inline]
-pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, rng: &mut Rng) -> Interaction {
+pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, rng: &mut Sampler) -> Interaction {
     let albedo = |id| lookup(scene, id, hit.uv, hit.point);
     let bounce = |attenuation, d| Interaction {
         emitted: Vec3::ZERO,
@@ -54,7 +54,7 @@ pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, rng: &mut Rng) -> Interacti
 
 /// A direction about `n` with density cos θ / π.
 #[inline]
-pub fn cosine_direction(n: Vec3, rng: &mut Rng) -> Vec3 {
+pub fn cosine_direction(n: Vec3, rng: &mut Sampler) -> Vec3 {
     let (x, y) = rng.in_unit_disk();
     let z = (1.0 - x * x - y * y).max(0.0).sqrt();
     let (t, b) = n.any_orthonormal_pair();
@@ -68,7 +68,7 @@ fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 
 /// Refracts or reflects unit `dir` at `hit`, choosing by the exact Fresnel
 /// reflectance of unpolarised light.
-fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Rng) -> Vec3 {
+fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Sampler) -> Vec3 {
     let eta = if hit.front_face { 1.0 / ior } else { ior };
     let n = hit.normal;
     let cos_i = (-dir.dot(n)).clamp(0.0, 1.0);
@@ -80,7 +80,7 @@ fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Rng) -> Vec3 {
     let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let fresnel = 0.5 * (rs * rs + rp * rp);
-    if rng.next_f32() < fresnel {
+    if rng.next_1d() < fresnel {
         reflect(dir, n)
     } else {
         (eta * dir + (eta * cos_i - cos_t) * n).normalize()
@@ -90,10 +90,15 @@ fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Rng) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::sampler::SamplerKind;
+
+    fn stream(seed: u64) -> Sampler {
+        Sampler::new(SamplerKind::Independent, seed, 0, 0, 0)
+    }
 
     #[test]
     fn cosine_directions_have_the_right_mean_cosine() {
-        let mut rng = Rng::for_sample(3, 0, 0, 0);
+        let mut rng = stream(3);
         let n = Vec3::new(0.0, 0.6, 0.8);
         let count = 200_000;
         let mean: f32 = (0..count)
@@ -120,7 +125,7 @@ mod tests {
 
     #[test]
     fn ior_one_passes_straight_and_total_internal_reflection_reflects() {
-        let mut rng = Rng::for_sample(1, 2, 3, 4);
+        let mut rng = stream(1);
         let dir = Vec3::new(0.6, -0.8, 0.0);
         let hit = upward_hit(true);
         for _ in 0..100 {
@@ -136,7 +141,7 @@ mod tests {
     /// ior 10 (normal +y) that it reflects.
     fn reflected_fraction(dir: Vec3, front_face: bool, count: u32) -> f64 {
         let hit = upward_hit(front_face);
-        let mut rng = Rng::for_sample(10, 0, 0, 0);
+        let mut rng = stream(10);
         let reflected = (0..count)
             .filter(|_| dielectric(dir, &hit, 10.0, &mut rng).y > 0.0)
             .count();

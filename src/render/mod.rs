@@ -17,7 +17,9 @@ pub mod output;
 pub mod piece;
 pub mod progress;
 pub mod rng;
+pub mod sampler;
 pub mod scenes;
+pub mod sobol;
 pub mod texture;
 pub mod tiles;
 

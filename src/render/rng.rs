@@ -2,8 +2,6 @@
 //! (scene seed, pixel x, pixel y, sample index) and nothing else, so a pixel's
 //! samples are the same whatever thread or tile renders them.
 
-use glam::Vec3;
-
 /// PCG-XSH-RR 32-bit output, 64-bit state.
 #[derive(Clone, Debug)]
 pub struct Rng {
@@ -14,7 +12,7 @@ pub struct Rng {
 const MULTIPLIER: u64 = 6_364_136_223_846_793_005;
 
 /// SplitMix64's finaliser: a bijective 64-bit mixer.
-fn mix(mut z: u64) -> u64 {
+pub(crate) fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
@@ -48,30 +46,6 @@ impl Rng {
     #[inline]
     pub fn next_f32(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
-    }
-
-    /// Uniform on the unit sphere.
-    #[inline]
-    pub fn unit_vector(&mut self) -> Vec3 {
-        let z = 1.0 - 2.0 * self.next_f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f32::consts::TAU * self.next_f32();
-        let (s, c) = phi.sin_cos();
-        Vec3::new(r * c, r * s, z)
-    }
-
-    /// Uniform in the unit ball.
-    #[inline]
-    pub fn in_unit_ball(&mut self) -> Vec3 {
-        self.unit_vector() * self.next_f32().cbrt()
-    }
-
-    /// Uniform in the unit disk (z = 0).
-    #[inline]
-    pub fn in_unit_disk(&mut self) -> (f32, f32) {
-        let r = self.next_f32().sqrt();
-        let (s, c) = (std::f32::consts::TAU * self.next_f32()).sin_cos();
-        (r * c, r * s)
     }
 }
 

@@ -17,7 +17,7 @@ use super::camera::CameraRays;
 use super::film::Film;
 use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
-use super::rng::Rng;
+use super::sampler::{Sampler, SamplerKind};
 use crate::geometry::World;
 use crate::scene::Scene;
 
@@ -156,6 +156,7 @@ pub fn render_film(
             tracer: &tracer,
             camera: &camera,
             seed: options.seed,
+            sampler: options.sampler,
             first,
             target,
             clamp: options.clamp,
@@ -248,6 +249,7 @@ struct Job<'a> {
     tracer: &'a Tracer<'a>,
     camera: &'a CameraRays,
     seed: u64,
+    sampler: SamplerKind,
     first: u32,
     target: u32,
     /// Largest component a sample's radiance may have (biased; off by default).
@@ -297,9 +299,9 @@ impl Job<'_> {
                         }
                     }
                     traced += 1;
-                    let mut rng = Rng::for_sample(self.seed, x, y, self.first + s);
-                    let ray = self.camera.ray(x, y, &mut rng);
-                    let (mut l, rays) = self.tracer.radiance(ray, &mut rng);
+                    let mut sampler = Sampler::new(self.sampler, self.seed, x, y, self.first + s);
+                    let ray = self.camera.ray(x, y, &mut sampler);
+                    let (mut l, rays) = self.tracer.radiance(ray, &mut sampler);
                     if let Some(c) = self.clamp {
                         l = clamp_radiance(l, c);
                     }
