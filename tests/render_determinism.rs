@@ -2,6 +2,7 @@
 //! thread count and for any crop of the image.
 
 use rtlang::geometry::World;
+use rtlang::render::sampler::SamplerKind;
 use rtlang::render::scenes::{book2_final, cornell_box};
 use rtlang::render::{render, Crop, RenderOptions};
 
@@ -9,14 +10,21 @@ use rtlang::render::{render, Crop, RenderOptions};
 fn one_thread_and_four_threads_are_bit_identical() {
     let scene = book2_final(40, 4);
     let world = World::build(&scene).expect("builds");
-    let mut options = RenderOptions::from_settings(&scene.settings);
-    options.threads = Some(1);
-    let one = render(&scene, &world, &options, &|_| {}).expect("renders");
-    options.threads = Some(4);
-    let four = render(&scene, &world, &options, &|_| {}).expect("renders");
-    assert_eq!(one.pixels, four.pixels);
-    assert_eq!(one.stats.rays, four.stats.rays);
-    assert!(one.pixels.iter().any(|p| p.max_element() > 0.0));
+    let mut by_sampler = Vec::new();
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        let mut options = RenderOptions::from_settings(&scene.settings);
+        options.sampler = sampler;
+        options.threads = Some(1);
+        let one = render(&scene, &world, &options, &|_| {}).expect("renders");
+        options.threads = Some(4);
+        let four = render(&scene, &world, &options, &|_| {}).expect("renders");
+        assert_eq!(one.pixels, four.pixels, "{sampler:?}");
+        assert_eq!(one.stats.rays, four.stats.rays);
+        assert!(one.pixels.iter().any(|p| p.max_element() > 0.0));
+        by_sampler.push(one.pixels);
+    }
+    // The sampler option reaches the render.
+    assert_ne!(by_sampler[0], by_sampler[1]);
 }
 
 #[test]
