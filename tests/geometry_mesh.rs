@@ -9,6 +9,7 @@ use glam::{Mat4, Vec3};
 use rtlang::geometry::ray::offset_origin;
 use rtlang::geometry::{Ray, World};
 use rtlang::render::rng::Rng;
+use rtlang::render::sampler::{Sampler, SamplerKind};
 use rtlang::scene::{Material, MaterialId, MeshData, Node, Scene, Shape, Texture};
 
 /// A closed octahedron subdivided `levels` times, vertices pushed to the
@@ -76,12 +77,12 @@ fn rays_leaving_a_mesh_far_from_the_origin_do_not_rehit_it() {
     let center = Vec3::new(1e5, -1e5, 1e5);
     let (scene, _) = mesh_scene(ball(2, center, 10.0));
     let world = World::build(&scene).expect("builds");
-    let mut rng = Rng::for_sample(2, 0, 0, 0);
+    let mut rng = Sampler::new(SamplerKind::Independent, 2, 0, 0, 0);
     for _ in 0..2000 {
         let origin = center + rng.unit_vector() * 40.0;
         let ray = Ray::new(origin, center + rng.in_unit_ball() * 5.0 - origin, 0.0);
         let hit = world
-            .intersect(&ray, 0.0, f32::INFINITY, &mut rng)
+            .intersect(&ray, 0.0, f32::INFINITY, rng.rng())
             .expect("aimed at the mesh");
         // Leave on the outside, in a direction away from the (convex) mesh.
         let mut d = rng.unit_vector();
@@ -89,7 +90,7 @@ fn rays_leaving_a_mesh_far_from_the_origin_do_not_rehit_it() {
             d = -d;
         }
         let leave = Ray::new(offset_origin(hit.point, hit.geo_normal, d), d, 0.0);
-        if let Some(h) = world.intersect(&leave, 0.0, f32::INFINITY, &mut rng) {
+        if let Some(h) = world.intersect(&leave, 0.0, f32::INFINITY, rng.rng()) {
             panic!("re-hit at t = {} leaving {}", h.t, hit.point);
         }
     }

@@ -57,6 +57,22 @@ fn decade_range(values: impl Iterator<Item = f64>) -> Option<std::ops::Range<f64
     })
 }
 
+/// A tick value: plain decimals from 0.001 to 9999 (`0.02`, `5`, `300`),
+/// exponent notation (`1e-5`) outside.
+fn tick_label(v: f64) -> String {
+    if (1e-3..1e4).contains(&v) {
+        let digits = (2 - v.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
 impl LogLogPlot {
     /// The series' plottable points (positive, finite x and y).
     fn points(&self) -> impl Iterator<Item = (usize, Vec<(f64, f64)>)> + '_ {
@@ -99,8 +115,8 @@ impl LogLogPlot {
                 .configure_mesh()
                 .x_desc(&self.x_label)
                 .y_desc(&self.y_label)
-                .x_label_formatter(&|v| format!("{v:.0e}"))
-                .y_label_formatter(&|v| format!("{v:.0e}"))
+                .x_label_formatter(&|v| tick_label(*v))
+                .y_label_formatter(&|v| tick_label(*v))
                 .label_style(("sans-serif", 12))
                 .draw()
                 .map_err(plot_error)?;

@@ -19,21 +19,55 @@ pub fn sobol0(i: u32) -> u32 {
     i.reverse_bits()
 }
 
-/// Sobol' dimension 1 of index `i` as a 32-bit fraction. Direction number
-/// `v_k` (for index bit `k`) is row `k` of Pascal's triangle mod 2 read from
-/// the top bit down: `v_0 = 1 << 31`, `v_{k+1} = v_k ^ (v_k >> 1)`.
-#[inline]
-pub fn sobol1(mut i: u32) -> u32 {
-    let mut v = 1u32 << 31;
-    let mut x = 0;
-    while i != 0 {
-        if i & 1 != 0 {
-            x ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
+/// Direction numbers of Sobol' dimension 1: `v_k` (for index bit `k`) is
+/// row `k` of Pascal's triangle mod 2 read from the top bit down:
+/// `v_0 = 1 << 31`, `v_{k+1} = v_k ^ (v_k >> 1)`.
+const fn directions1() -> [u32; 32] {
+    let mut v = [0u32; 32];
+    v[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        k += 1;
     }
-    x
+    v
+}
+
+/// The XOR of the direction numbers of every bit pattern of each index
+/// byte, so a point costs four lookups instead of a loop over 32 bits.
+const fn byte_tables1() -> [[u32; 256]; 4] {
+    let v = directions1();
+    let mut t = [[0u32; 256]; 4];
+    let mut byte = 0;
+    while byte < 4 {
+        let mut b = 0;
+        while b < 256 {
+            let mut x = 0;
+            let mut bit = 0;
+            while bit < 8 {
+                if b & (1 << bit) != 0 {
+                    x ^= v[byte * 8 + bit];
+                }
+                bit += 1;
+            }
+            t[byte][b] = x;
+            b += 1;
+        }
+        byte += 1;
+    }
+    t
+}
+
+static TABLES1: [[u32; 256]; 4] = byte_tables1();
+
+/// Sobol' dimension 1 of index `i` as a 32-bit fraction.
+#[inline]
+pub fn sobol1(i: u32) -> u32 {
+    let [a, b, c, d] = i.to_le_bytes();
+    TABLES1[0][a as usize]
+        ^ TABLES1[1][b as usize]
+        ^ TABLES1[2][c as usize]
+        ^ TABLES1[3][d as usize]
 }
 
 /// A hash-based bijection in which bit `k` of the result depends only on
@@ -102,6 +136,17 @@ mod tests {
         }
         // Index 11 = 0b1011 of dimension 1: v0 ^ v1 ^ v3 = .1 ^ .11 ^ .1111 = .1011.
         assert_eq!(unit(sobol1(11)), 0.6875);
+    }
+
+    #[test]
+    fn byte_tables_agree_with_the_direction_numbers_bit_by_bit() {
+        let v = directions1();
+        let slow = |i: u32| (0..32).filter(|k| i >> k & 1 != 0).fold(0, |x, k| x ^ v[k]);
+        for i in (0..4096u32).chain([u32::MAX, 0x8000_0001, 0xdead_beef, 0x1234_5678]) {
+            assert_eq!(sobol1(i), slow(i), "index {i:#x}");
+        }
+        // Row 31 of Pascal's triangle mod 2 is all ones.
+        assert_eq!(v[31], u32::MAX);
     }
 
     /// Whether every elementary interval of shape 2^a × 2^(m−a) holds
