@@ -33,9 +33,11 @@ const fn directions1() -> [u32; 32] {
     v
 }
 
-/// The XOR of the direction numbers of every bit pattern of each index
-/// byte, so a point costs four lookups instead of a loop over 32 bits.
-const fn byte_tables1() -> [[u32; 256]; 4] {
+/// Dimension 1 with input and output bit-reversed (the order the Owen
+/// scrambles work in), as the XOR of each byte's table entry: bit `j` of the
+/// reversed index is index bit `31 − j`, worth `v_{31−j}` reversed. Four
+/// lookups instead of a loop over 32 bits.
+const fn reversed_byte_tables1() -> [[u32; 256]; 4] {
     let v = directions1();
     let mut t = [[0u32; 256]; 4];
     let mut byte = 0;
@@ -46,7 +48,7 @@ const fn byte_tables1() -> [[u32; 256]; 4] {
             let mut bit = 0;
             while bit < 8 {
                 if b & (1 << bit) != 0 {
-                    x ^= v[byte * 8 + bit];
+                    x ^= v[31 - (byte * 8 + bit)].reverse_bits();
                 }
                 bit += 1;
             }
@@ -58,16 +60,20 @@ const fn byte_tables1() -> [[u32; 256]; 4] {
     t
 }
 
-static TABLES1: [[u32; 256]; 4] = byte_tables1();
+static REVERSED_TABLES1: [[u32; 256]; 4] = reversed_byte_tables1();
+
+/// `sobol1(r.reverse_bits()).reverse_bits()`.
+#[inline]
+fn sobol1_reversed(r: u32) -> u32 {
+    let t = &REVERSED_TABLES1;
+    let [a, b, c, d] = r.to_le_bytes();
+    t[0][a as usize] ^ t[1][b as usize] ^ t[2][c as usize] ^ t[3][d as usize]
+}
 
 /// Sobol' dimension 1 of index `i` as a 32-bit fraction.
 #[inline]
 pub fn sobol1(i: u32) -> u32 {
-    let [a, b, c, d] = i.to_le_bytes();
-    TABLES1[0][a as usize]
-        ^ TABLES1[1][b as usize]
-        ^ TABLES1[2][c as usize]
-        ^ TABLES1[3][d as usize]
+    sobol1_reversed(i.reverse_bits()).reverse_bits()
 }
 
 /// A hash-based bijection in which bit `k` of the result depends only on
@@ -100,18 +106,24 @@ pub fn to_unit(x: u32) -> f32 {
 /// The scrambled 2-D point of sample `index` for the three seeds of one
 /// dimension pair: the index is shuffled (an Owen scramble of its bits read
 /// from the top, so each aligned block of 2^m indices maps onto an aligned
-/// block), then both coordinates are Owen-scrambled.
+/// block), then both coordinates are Owen-scrambled. That is
+/// `(owen(sobol0(i), s1), owen(sobol1(i), s2))` with `i = owen(index, s0)`,
+/// written with four bit reversals instead of seven.
 #[inline]
 pub fn point2(index: u32, seeds: [u32; 3]) -> (u32, u32) {
-    let i = owen(index, seeds[0]);
-    (owen(sobol0(i), seeds[1]), owen(sobol1(i), seeds[2]))
+    let r = upward_mix(index.reverse_bits(), seeds[0]);
+    (
+        upward_mix(r.reverse_bits(), seeds[1]).reverse_bits(),
+        upward_mix(sobol1_reversed(r), seeds[2]).reverse_bits(),
+    )
 }
 
 /// The scrambled 1-D point of sample `index`: the first coordinate of
 /// [`point2`] (a scrambled van der Corput sequence over a shuffled index).
 #[inline]
 pub fn point1(index: u32, seeds: [u32; 2]) -> u32 {
-    owen(sobol0(owen(index, seeds[0])), seeds[1])
+    let r = upward_mix(index.reverse_bits(), seeds[0]);
+    upward_mix(r.reverse_bits(), seeds[1]).reverse_bits()
 }
 
 #[cfg(test)]
@@ -147,6 +159,22 @@ mod tests {
         }
         // Row 31 of Pascal's triangle mod 2 is all ones.
         assert_eq!(v[31], u32::MAX);
+    }
+
+    #[test]
+    fn points_are_the_scrambles_of_the_shuffled_index_written_out() {
+        for (index, s) in [
+            (0u32, [1u32, 2, 3]),
+            (77, [9, 8, 7]),
+            (u32::MAX, [0xdead_beef, 5, 0x1234_5678]),
+        ] {
+            let i = owen(index, s[0]);
+            assert_eq!(
+                point2(index, s),
+                (owen(sobol0(i), s[1]), owen(sobol1(i), s[2]))
+            );
+            assert_eq!(point1(index, [s[0], s[1]]), owen(sobol0(i), s[1]));
+        }
     }
 
     /// Whether every elementary interval of shape 2^a × 2^(m−a) holds
