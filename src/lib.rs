@@ -9,4 +9,5 @@ pub mod geometry;
 pub mod lang;
 pub mod picture;
 pub mod render;
+pub mod sampling;
 pub mod scene;

@@ -24,8 +24,8 @@ use glam::Vec3;
 use rtlang::geometry::World;
 use rtlang::lang::Options;
 use rtlang::render::output::write_image;
-use rtlang::render::sampler::SamplerKind;
 use rtlang::render::{render, RenderOptions};
+use rtlang::sampling::SamplerKind;
 
 const SIZE: u32 = 64;
 const BLOCK: u32 = 8;

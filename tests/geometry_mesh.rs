@@ -6,10 +6,8 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
-use rtlang::geometry::ray::offset_origin;
 use rtlang::geometry::{Ray, World};
-use rtlang::render::rng::Rng;
-use rtlang::render::sampler::{Sampler, SamplerKind};
+use rtlang::sampling::Rng;
 use rtlang::scene::{Material, MaterialId, MeshData, Node, Scene, Shape, Texture};
 
 /// A closed octahedron subdivided `levels` times, vertices pushed to the
@@ -77,20 +75,20 @@ fn rays_leaving_a_mesh_far_from_the_origin_do_not_rehit_it() {
     let center = Vec3::new(1e5, -1e5, 1e5);
     let (scene, _) = mesh_scene(ball(2, center, 10.0));
     let world = World::build(&scene).expect("builds");
-    let mut rng = Sampler::new(SamplerKind::Independent, 2, 0, 0, 0);
+    let mut rng = Rng::for_sample(2, 0, 0, 0);
     for _ in 0..2000 {
         let origin = center + rng.unit_vector() * 40.0;
         let ray = Ray::new(origin, center + rng.in_unit_ball() * 5.0 - origin, 0.0);
         let hit = world
-            .intersect(&ray, 0.0, f32::INFINITY, rng.rng())
+            .intersect(&ray, 0.0, f32::INFINITY)
             .expect("aimed at the mesh");
         // Leave on the outside, in a direction away from the (convex) mesh.
         let mut d = rng.unit_vector();
         if d.dot(hit.geo_normal) < 0.0 {
             d = -d;
         }
-        let leave = Ray::new(offset_origin(hit.point, hit.geo_normal, d), d, 0.0);
-        if let Some(h) = world.intersect(&leave, 0.0, f32::INFINITY, rng.rng()) {
+        let leave = Ray::new(hit.spawn_origin(d), d, 0.0);
+        if let Some(h) = world.intersect(&leave, 0.0, f32::INFINITY) {
             panic!("re-hit at t = {} leaving {}", h.t, hit.point);
         }
     }
@@ -119,13 +117,11 @@ fn transforms_place_shapes_and_normals_and_instances_share_geometry() {
         })
         .collect();
     let world = World::build(&s).expect("builds");
-    let mut rng = Rng::for_sample(0, 0, 0, 0);
     let h = world
         .intersect(
             &Ray::new(Vec3::new(10.0, 0.0, -5000.0), Vec3::NEG_X, 0.0),
             0.0,
             f32::INFINITY,
-            &mut rng,
         )
         .expect("hits the ellipsoid at z = -5000");
     assert!(
@@ -141,7 +137,6 @@ fn transforms_place_shapes_and_normals_and_instances_share_geometry() {
             &Ray::new(p + Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y, 0.0),
             0.0,
             f32::INFINITY,
-            &mut rng,
         )
         .expect("hits from above");
     let expected = Vec3::new(0.6 / 2.0, 0.8, 0.0).normalize();

@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use rtlang::geometry::{Ray, World};
-use rtlang::render::sampler::{Sampler, SamplerKind};
+use rtlang::sampling::Rng;
 use rtlang::scene::obj::load_obj;
 use rtlang::scene::{Material, MeshData, Node, Scene, Texture};
 
@@ -183,7 +183,7 @@ fn fire(mesh: &MeshData, stride: usize, per_target: usize, seed: u64) -> (usize,
         let [a, b, c] = mesh.triangles[f].map(|i| mesh.positions[i as usize]);
         (b - a).cross(c - a).normalize()
     };
-    let mut rng = Sampler::new(SamplerKind::Independent, seed, 0, 0, 0);
+    let mut rng = Rng::for_sample(seed, 0, 0, 0);
     let (mut crossing, mut misses) = (0, Vec::new());
     for (target, faces) in targets(mesh, stride) {
         for _ in 0..per_target {
@@ -203,7 +203,7 @@ fn fire(mesh: &MeshData, stride: usize, per_target: usize, seed: u64) -> (usize,
             // about the vertices' rounding over sin θ.
             let slack = 1e-6 / cosines.iter().fold(1.0f32, |m, c| m.min(c.abs()));
             let ray = Ray::new(origin, dir, 0.0);
-            match world.intersect(&ray, 0.0, f32::INFINITY, rng.rng()) {
+            match world.intersect(&ray, 0.0, f32::INFINITY) {
                 Some(h) if h.t <= 1.0 + slack => {}
                 Some(h) => misses.push(format!("{origin} → {target}: hit only at t = {}", h.t)),
                 None => misses.push(format!("{origin} → {target}: no hit")),

@@ -218,11 +218,10 @@ fn a_condition_must_be_a_boolean() {
 /// from y = -5 at `x`.
 fn faces_at(world: &rtlang::geometry::World, x: f32) -> (bool, bool) {
     use rtlang::geometry::Ray;
-    let mut rng = rtlang::render::rng::Rng::for_sample(3, 0, 0, 0);
-    let mut front = |y: f32, dir: f32| {
+    let front = |y: f32, dir: f32| {
         let ray = Ray::new(Vec3::new(x, y, 0.0), Vec3::new(0.0, dir, 0.0), 0.0);
         world
-            .intersect(&ray, 1e-4, f32::INFINITY, &mut rng)
+            .intersect(&ray, 1e-4, f32::INFINITY)
             .expect("the ray hits the rectangle")
             .front_face
     };

@@ -2,9 +2,9 @@
 //! thread count and for any crop of the image.
 
 use rtlang::geometry::World;
-use rtlang::render::sampler::SamplerKind;
 use rtlang::render::scenes::{book2_final, cornell_box};
 use rtlang::render::{render, Crop, RenderOptions};
+use rtlang::sampling::SamplerKind;
 
 #[test]
 fn one_thread_and_four_threads_are_bit_identical() {

@@ -10,7 +10,6 @@
 use glam::{Mat4, Vec2, Vec3};
 use rtlang::geometry::shapes::{Cuboid, Rect, ShapeHit};
 use rtlang::geometry::{Hit, Ray, World};
-use rtlang::render::rng::Rng;
 use rtlang::scene::object::RectPlane;
 use rtlang::scene::{Material, Node, Scene, Shape, Texture};
 
@@ -261,7 +260,6 @@ fn assert_sane_hit(ray: &Ray, h: &Hit, what: &str) {
 fn a_rotated_scaled_rect_keeps_its_edges() {
     let m = placement();
     let normal_matrix = m.inverse().transpose();
-    let mut rng = Rng::for_sample(1, 0, 0, 0);
     let (mut grazing_hits, mut grazing) = (0, 0);
     for plane in PLANES {
         let r = rect(plane);
@@ -290,7 +288,7 @@ fn a_rotated_scaled_rect_keeps_its_edges() {
                 for offset in [1e-3 * size, -1e-3 * size, 0.5, -0.5] {
                     for d in [dir_along, -dir_along, dir_diagonal] {
                         let ray = Ray::new(on_edge + offset * n, d, 0.0);
-                        let hit = world.intersect(&ray, 0.0, f32::INFINITY, &mut rng);
+                        let hit = world.intersect(&ray, 0.0, f32::INFINITY);
                         assert!(hit.is_none(), "{plane:?} {ray:?}: {hit:?}");
                     }
                 }
@@ -299,7 +297,7 @@ fn a_rotated_scaled_rect_keeps_its_edges() {
                 for d in [dir_along, -dir_along, dir_diagonal, -dir_diagonal] {
                     let ray = Ray::new(on_edge, d, 0.0);
                     grazing += 1;
-                    if let Some(h) = world.intersect(&ray, 0.0, f32::INFINITY, &mut rng) {
+                    if let Some(h) = world.intersect(&ray, 0.0, f32::INFINITY) {
                         grazing_hits += 1;
                         assert_sane_hit(&ray, &h, &format!("{plane:?} grazing {ray:?}"));
                     }
@@ -314,7 +312,7 @@ fn a_rotated_scaled_rect_keeps_its_edges() {
                     for d in [-n, n, (dir_diagonal.normalize() - n).normalize()] {
                         let ray = Ray::new(target - 3.0 * d, d, 0.0);
                         let what = format!("{plane:?} {ray:?}");
-                        match world.intersect(&ray, 0.0, f32::INFINITY, &mut rng) {
+                        match world.intersect(&ray, 0.0, f32::INFINITY) {
                             Some(h) => {
                                 assert!(hits, "{what}: hit outside the edge");
                                 assert_sane_hit(&ray, &h, &what);
@@ -524,7 +522,6 @@ fn a_rotated_box_gives_sane_hits_at_its_edges_and_corners() {
         },
         m,
     );
-    let mut rng = Rng::for_sample(2, 0, 0, 0);
     let (mut hits, mut misses) = (0, 0);
     for local in edge_and_corner_rays() {
         let ray = Ray::new(
@@ -532,7 +529,7 @@ fn a_rotated_box_gives_sane_hits_at_its_edges_and_corners() {
             m.transform_vector3(local.dir),
             0.0,
         );
-        match world.intersect(&ray, 0.0, f32::INFINITY, &mut rng) {
+        match world.intersect(&ray, 0.0, f32::INFINITY) {
             Some(h) => {
                 hits += 1;
                 assert_sane_hit(&ray, &h, &format!("{ray:?}"));

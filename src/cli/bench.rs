@@ -2,7 +2,8 @@
 //! threads, and the scaling factor), or with `--convergence` an error-vs-time
 //! study of path tracing and light sampling under the independent and the
 //! Sobol' sampler against a high-spp reference, written as a markdown table
-//! and a log-log plot. Orchestration only; the measurement is in
+//! and a log-log plot, or with `--rays` the intersection-only ray rates of
+//! `render::raycast`. Orchestration only; the measurement is in
 //! `render::convergence`, the drawing in `picture::plot`.
 
 use std::path::PathBuf;
@@ -13,8 +14,9 @@ use clap::Args;
 use rtlang::geometry::World;
 use rtlang::picture::{LogLogPlot, Series};
 use rtlang::render::convergence::{study, throughput, Convergence, Method};
-use rtlang::render::sampler::SamplerKind;
+use rtlang::render::raycast::{camera_rays, random_rays};
 use rtlang::render::RenderOptions;
+use rtlang::sampling::SamplerKind;
 
 /// Arguments of `rtlang bench`.
 #[derive(Args)]
@@ -24,6 +26,10 @@ pub struct BenchArgs {
     /// Measure error against time instead of throughput.
     #[arg(long)]
     convergence: bool,
+    /// Intersection-only rays/s on one thread instead: the camera rays at
+    /// `--spp` per pixel, then this many random rays through the scene's box.
+    #[arg(long, value_name = "RANDOM_RAYS", conflicts_with = "convergence")]
+    rays: Option<u32>,
     /// Samples per pixel of the convergence reference.
     #[arg(long, default_value_t = 4096)]
     reference_spp: u32,
@@ -83,7 +89,9 @@ pub fn run(args: BenchArgs) -> ExitCode {
         Ok(w) => w,
         Err(e) => return fail(e),
     };
-    if args.convergence {
+    if let Some(count) = args.rays {
+        rays(&scene, &world, &options, count)
+    } else if args.convergence {
         convergence(&args, &scene, &world, &options)
     } else {
         scaling(&scene, &world, &options)
@@ -111,6 +119,19 @@ fn scaling(scene: &rtlang::scene::Scene, world: &World, options: &RenderOptions)
         rates.push(t.samples_per_second);
     }
     println!("\nscaling 1 → 2 threads: {:.2}×", rates[1] / rates[0]);
+    ExitCode::SUCCESS
+}
+
+fn rays(
+    scene: &rtlang::scene::Scene,
+    world: &World,
+    options: &RenderOptions,
+    count: u32,
+) -> ExitCode {
+    println!("camera rays: {}", camera_rays(scene, world, options));
+    if let Some(r) = random_rays(world, world.bounds(), count, options.seed) {
+        println!("random rays: {r}");
+    }
     ExitCode::SUCCESS
 }
 

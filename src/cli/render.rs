@@ -18,8 +18,8 @@ use rtlang::render::checkpoint::{self, Header};
 use rtlang::render::output::{write_image, Format};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
-use rtlang::render::sampler::SamplerKind;
 use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
+use rtlang::sampling::SamplerKind;
 
 use super::split::{self, Tile};
 

@@ -7,18 +7,18 @@ use std::sync::Arc;
 
 use glam::Mat4;
 
+use super::bake::{flatten, primitive};
 use super::group::Group;
 use super::instance::{is_bounded, Instance, Placement, StaticTransform};
-use super::medium::Medium;
+use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
 use super::primitives::{Primitive, PrimitiveSet};
 use super::revolution::{tessellate, RevolutionSurface};
-use super::shapes::{Cuboid, Plane, Rect, Sphere, Triangle};
+use super::shapes::Plane;
 use super::sweep::swept_bounds;
-use super::{Hit, Ray};
+use super::{Aabb, Hit, Ray};
 use crate::render::lights::LightList;
-use crate::render::rng::Rng;
 use crate::scene::motion::CompiledMotion;
 use crate::scene::object::RevolutionMode;
 use crate::scene::{MaterialId, Node, ProtoId, Scene, Shape};
@@ -63,10 +63,39 @@ impl World {
         })
     }
 
-    /// The nearest hit with `t` in `(t_min, t_max)`.
+    /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
-        self.root.intersect(ray, t_min, t_max, rng)
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        self.intersect_in_media(ray, t_min, t_max, &mut MediumSegments::default())
+    }
+
+    /// The nearest surface hit with `t` in `(t_min, t_max)`; `media` is
+    /// cleared and receives the stretches of the ray inside media up to
+    /// `t_max` (the caller clips them at the hit).
+    #[inline]
+    pub fn intersect_in_media(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+    ) -> Option<Hit> {
+        media.clear();
+        self.root.intersect(ray, t_min, t_max, media)
+    }
+
+    /// Whether a surface is hit with `t` in `(t_min, t_max)` (a shadow
+    /// ray); `media` is cleared and receives the medium stretches found
+    /// (complete only when nothing is hit).
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+        media.clear();
+        self.root.occluded(ray, t_min, t_max, media)
+    }
+
+    /// The box around every object (infinite when a plane is in it).
+    pub fn bounds(&self) -> Aabb {
+        self.root.bounds
     }
 
     /// The emitters next-event estimation samples.
@@ -139,9 +168,13 @@ impl Builder<'_> {
                     self.collect(c, prims, items)?;
                 }
             }
+            // Shapes that survive the matrix exactly join this space's
+            // primitives; anything else becomes a placed instance.
             Node::Transform { matrix, child } => {
-                let inner = self.instance(std::iter::once(&**child))?;
-                items.push(self.transform(*matrix, inner)?);
+                if !flatten(matrix, child, prims) {
+                    let inner = self.instance(std::iter::once(&**child))?;
+                    items.push(self.transform(*matrix, inner)?);
+                }
             }
             Node::Motion { motion, child } => {
                 let compiled = CompiledMotion::new(motion);
@@ -195,16 +228,6 @@ impl Builder<'_> {
         items: &mut Vec<Instance>,
     ) -> Result<(), BuildError> {
         let prim = match shape {
-            Shape::Sphere { center, radius } => Primitive::Sphere(Sphere {
-                center: *center,
-                radius: *radius,
-            }),
-            Shape::Rect { plane, a, b, k } => Primitive::Rect(Rect::new(*plane, *a, *b, *k)),
-            Shape::Cuboid { min, max } => Primitive::Cuboid(Cuboid {
-                min: min.min(*max),
-                max: min.max(*max),
-            }),
-            Shape::Triangle { vertices } => Primitive::Triangle(Triangle { v: *vertices }),
             Shape::Plane { point, normal } => {
                 let plane = Plane {
                     point: *point,
@@ -232,8 +255,9 @@ impl Builder<'_> {
                 items.push(self.placed(geometry, Placement::Identity));
                 return Ok(());
             }
+            bounded => primitive(bounded),
         };
-        prims.push((prim, material));
+        prims.extend(prim.map(|p| (p, material)));
         Ok(())
     }
 

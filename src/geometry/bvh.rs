@@ -1,9 +1,17 @@
-//! A bounding volume hierarchy built with the binned surface-area heuristic,
-//! stored as a flat array of 32-byte nodes and traversed iteratively with a
-//! fixed-size stack, nearest child first, without allocation.
+//! A bounding volume hierarchy built with the binned surface-area heuristic
+//! as a binary tree, then collapsed into a 4-wide tree whose nodes hold their
+//! children's boxes as lanes (structure of arrays), so one node visit tests
+//! four boxes at once. It is traversed iteratively with a fixed-size stack of
+//! inner nodes, nearest child first, leaves visited as soon as their box is
+//! hit, entries farther than the closest hit so far skipped, without
+//! allocation.
 //!
-//! The hierarchy knows only boxes: the caller reorders its primitives by
-//! [`Bvh::order`] after building and intersects them in a visitor closure.
+//! The four-lane box test is portable code over `[f32; 4]` that the compiler
+//! turns into SSE instructions (min/max written as the comparisons `maxps` and
+//! `minps` implement), so no SIMD crate and no `unsafe` are needed.
+//!
+//! The hierarchy knows only boxes: the caller reorders its primitives by the
+//! permutation [`Bvh::build`] returns and intersects them in a visitor closure.
 
 use glam::Vec3;
 
@@ -11,30 +19,50 @@ use super::{Aabb, Ray};
 
 /// Number of centroid bins per axis when searching for a split.
 const BINS: usize = 12;
-/// Largest number of primitives a leaf may hold.
+/// Largest number of primitives a leaf may hold (at most 4: the leaf
+/// encoding keeps `count - 1` in two bits).
 const MAX_LEAF: usize = 4;
-/// Depth of the traversal stack; a SAH tree over 2^32 items stays below it.
-const STACK: usize = 64;
+/// Depth of the traversal stack: a node pushes at most 3 more entries than
+/// it pops, and a 4-wide level halves two binary SAH levels.
+const STACK: usize = 128;
 /// Relative cost of a box test against a primitive test.
 const TRAVERSAL_COST: f32 = 0.5;
+/// Children per wide node.
+const WIDTH: usize = 4;
+/// A child word with this bit is a leaf: bits 29–30 hold `count - 1`, the
+/// low 29 bits its first primitive slot. Otherwise it is a node index.
+const LEAF: u32 = 1 << 31;
+/// Slots a leaf's first primitive can address (2^29, far beyond memory).
+const SLOT_MASK: u32 = (1 << 29) - 1;
+/// The factor absorbing the rounding of the slab distances (robust
+/// traversal, Ize 2013), so rays grazing a box edge are not lost.
+const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
 
-/// One node: its box, and either two children (`count == 0`: the left child
-/// follows this node, the right one is at `offset`) or a leaf of `count`
-/// primitives starting at `offset`.
+/// One node of the binary tree the builder makes: its box, and either two
+/// children (`count == 0`: the left child follows this node, the right one
+/// is at `offset`) or a leaf of `count` primitives starting at `offset`.
 #[derive(Clone, Copy, Debug)]
-#[repr(C)]
-pub struct BvhNode {
-    min: [f32; 3],
+struct BinaryNode {
+    bounds: Aabb,
     offset: u32,
-    max: [f32; 3],
-    count: u16,
-    axis: u16,
+    count: u32,
 }
 
-/// The hierarchy: nodes (root first) and the primitive order its leaves use.
+/// One wide node: per axis the lower and upper bounds of its four children
+/// (`bounds[2 * axis]` lower, `bounds[2 * axis + 1]` upper; an unused lane is
+/// an empty box, which no ray enters), and each child's word (see [`LEAF`]).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub struct BvhNode {
+    bounds: [[f32; WIDTH]; 6],
+    child: [u32; WIDTH],
+}
+
+/// The hierarchy: wide nodes (root first) and the box around everything.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     nodes: Vec<BvhNode>,
+    bounds: Aabb,
 }
 
 struct BuildItem {
@@ -43,28 +71,101 @@ struct BuildItem {
     index: u32,
 }
 
-impl BvhNode {
-    fn bounds(&self) -> Aabb {
-        Aabb {
-            min: Vec3::from(self.min),
-            max: Vec3::from(self.max),
+/// `a` if it is greater, else `b` (also when either is NaN), as `maxps`.
+#[inline(always)]
+fn lane_max(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `a` if it is smaller, else `b` (also when either is NaN), as `minps`.
+#[inline(always)]
+fn lane_min(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// A ray prepared for box tests: origin, reciprocal direction, and for each
+/// axis which bound row the ray meets first.
+struct BoxRay {
+    origin: [f32; 3],
+    inv_dir: [f32; 3],
+    near_row: [usize; 3],
+}
+
+impl BoxRay {
+    fn new(ray: &Ray) -> BoxRay {
+        let inv = ray.dir.recip();
+        let row = |axis: usize| 2 * axis + usize::from(inv[axis] < 0.0);
+        BoxRay {
+            origin: ray.origin.into(),
+            inv_dir: inv.into(),
+            near_row: [row(0), row(1), row(2)],
         }
+    }
+}
+
+impl BvhNode {
+    const EMPTY: BvhNode = BvhNode {
+        bounds: [
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+        ],
+        child: [0; WIDTH],
+    };
+
+    fn set_lane(&mut self, lane: usize, b: &Aabb, child: u32) {
+        for axis in 0..3 {
+            self.bounds[2 * axis][lane] = b.min[axis];
+            self.bounds[2 * axis + 1][lane] = b.max[axis];
+        }
+        self.child[lane] = child;
     }
 
-    #[inline]
-    fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<f32> {
-        let t0 = (Vec3::from(self.min) - origin) * inv_dir;
-        let t1 = (Vec3::from(self.max) - origin) * inv_dir;
-        let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element().min(t_max);
-        // The factor absorbs the rounding of the slab distances (robust
-        // traversal, Ize 2013), so rays grazing a box edge are not lost.
-        if near <= far * (1.0 + 2.0 * f32::EPSILON * 2.0) {
-            Some(near)
-        } else {
-            None
+    /// The entry distance of the ray into each child's box within
+    /// `(0, t_max)`, or infinity where it misses.
+    #[inline(always)]
+    fn hit(&self, ray: &BoxRay, t_max: f32) -> [f32; WIDTH] {
+        let mut near = [0.0f32; WIDTH];
+        let mut far = [t_max; WIDTH];
+        for axis in 0..3 {
+            let lo = &self.bounds[ray.near_row[axis]];
+            let hi = &self.bounds[ray.near_row[axis] ^ 1];
+            let (o, inv) = (ray.origin[axis], ray.inv_dir[axis]);
+            for lane in 0..WIDTH {
+                near[lane] = lane_max((lo[lane] - o) * inv, near[lane]);
+                far[lane] = lane_min((hi[lane] - o) * inv, far[lane]);
+            }
         }
+        let mut out = [f32::INFINITY; WIDTH];
+        for lane in 0..WIDTH {
+            if near[lane] <= far[lane] * ROBUST {
+                out[lane] = near[lane];
+            }
+        }
+        out
     }
+}
+
+/// A stack entry: a node index and the ray's entry distance into its box.
+#[inline(always)]
+fn pack(child: u32, near: f32) -> u64 {
+    (u64::from(near.to_bits()) << 32) | u64::from(child)
+}
+
+#[inline(always)]
+fn unpack(entry: u64) -> (u32, f32) {
+    (entry as u32, f32::from_bits((entry >> 32) as u32))
 }
 
 impl Bvh {
@@ -81,13 +182,16 @@ impl Bvh {
                 index: i as u32,
             })
             .collect();
-        let mut bvh = Bvh {
-            nodes: Vec::with_capacity(2 * bounds.len().max(1)),
-        };
         if items.is_empty() {
-            return (bvh, Vec::new());
+            return (Bvh::default(), Vec::new());
         }
-        bvh.build_node(&mut items, 0);
+        let mut binary = Vec::with_capacity(2 * items.len());
+        build_node(&mut binary, &mut items, 0);
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(binary.len() / 3 + 1),
+            bounds: binary[0].bounds,
+        };
+        bvh.collapse(&binary, 0);
         let order = items.iter().map(|it| it.index).collect();
         (bvh, order)
     }
@@ -99,61 +203,60 @@ impl Bvh {
 
     /// The box of everything in the hierarchy.
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, BvhNode::bounds)
+        if self.nodes.is_empty() {
+            Aabb::EMPTY
+        } else {
+            self.bounds
+        }
     }
 
-    fn push_leaf(&mut self, bounds: Aabb, first: usize, count: usize) {
-        self.nodes.push(BvhNode {
-            min: bounds.min.into(),
-            offset: first as u32,
-            max: bounds.max.into(),
-            count: count as u16,
-            axis: 0,
-        });
-    }
-
-    fn build_node(&mut self, items: &mut [BuildItem], first: usize) {
-        let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(&it.bounds));
-        if items.len() <= 1 {
-            self.push_leaf(bounds, first, items.len());
-            return;
-        }
-        let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
-        let split = best_split(items, &centroids);
-        let leaf_cost = items.len() as f32;
-        if items.len() <= MAX_LEAF && split.is_none_or(|(_, _, cost)| cost >= leaf_cost) {
-            self.push_leaf(bounds, first, items.len());
-            return;
-        }
-        let (axis, mut mid) = match split {
-            Some((axis, boundary, _)) => (
-                axis,
-                partition(items, |it| bin_of(it.centroid, &centroids, axis) < boundary),
-            ),
-            None => (bounds.extent().max_position(), 0),
-        };
-        if mid == 0 || mid == items.len() {
-            // All centroids coincide: halve by order along the widest axis.
-            items.sort_by(|a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-            mid = items.len() / 2;
-        }
+    /// Makes the wide node for binary node `b` (and, recursively, those
+    /// below it) and returns its index. Its children are `b`'s, each inner
+    /// one with the largest surface area replaced by its own two children
+    /// while there is room; a binary leaf at the root is the root's only lane.
+    fn collapse(&mut self, binary: &[BinaryNode], b: usize) -> u32 {
         let me = self.nodes.len();
-        self.nodes.push(BvhNode {
-            min: bounds.min.into(),
-            offset: 0,
-            max: bounds.max.into(),
-            count: 0,
-            axis: axis as u16,
-        });
-        let (left, right) = items.split_at_mut(mid);
-        self.build_node(left, first);
-        self.nodes[me].offset = self.nodes.len() as u32;
-        self.build_node(right, first + mid);
+        self.nodes.push(BvhNode::EMPTY);
+        let children = |n: usize| [n + 1, binary[n].offset as usize];
+        let mut kids = [0usize; WIDTH];
+        let mut len;
+        if binary[b].count == 0 {
+            kids[..2].copy_from_slice(&children(b));
+            len = 2;
+        } else {
+            kids[0] = b;
+            len = 1;
+        }
+        while len < WIDTH {
+            let widest = (0..len)
+                .filter(|&i| binary[kids[i]].count == 0)
+                .max_by(|&i, &j| {
+                    let area = |k: usize| binary[kids[k]].bounds.area();
+                    area(i).total_cmp(&area(j)).then(j.cmp(&i))
+                });
+            let Some(i) = widest else { break };
+            let [l, r] = children(kids[i]);
+            kids[i] = l;
+            kids[len] = r;
+            len += 1;
+        }
+        for (lane, &k) in kids[..len].iter().enumerate() {
+            let n = binary[k];
+            let word = if n.count > 0 {
+                LEAF | ((n.count - 1) << 29) | (n.offset & SLOT_MASK)
+            } else {
+                self.collapse(binary, k)
+            };
+            self.nodes[me].set_lane(lane, &n.bounds, word);
+        }
+        me as u32
     }
 
     /// Visits, nearest first as far as the tree tells, every leaf primitive
     /// whose box the ray enters before `t_max`. `visit(slot, t_max)` returns
-    /// a new, closer `t_max` when it found a hit.
+    /// a new, closer `t_max` when it found a hit; a returned `t_max` below
+    /// zero (below any `t_min`) ends the traversal at once, which is how an
+    /// any-hit query stops at its first hit.
     #[inline]
     pub fn traverse(
         &self,
@@ -164,42 +267,126 @@ impl Bvh {
         if self.nodes.is_empty() {
             return;
         }
-        let inv_dir = ray.dir.recip();
-        let negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
-        let mut stack = [0u32; STACK];
-        let mut top = 0usize;
-        let mut current = 0usize;
-        loop {
-            let node = &self.nodes[current];
-            if node.hit(ray.origin, inv_dir, t_max).is_some() {
-                if node.count > 0 {
-                    let start = node.offset as usize;
-                    for slot in start..start + node.count as usize {
-                        if let Some(t) = visit(slot, t_max) {
-                            t_max = t;
-                        }
+        let box_ray = BoxRay::new(ray);
+        let mut stack = [0u64; STACK];
+        stack[0] = pack(0, 0.0);
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let (index, near) = unpack(stack[top]);
+            if near > t_max {
+                continue;
+            }
+            let node = &self.nodes[index as usize];
+            let dist = node.hit(&box_ray, t_max);
+            // The children hit, farthest first.
+            let mut order = [(0.0f32, 0u32); WIDTH];
+            let mut n = 0;
+            for (&d, &child) in dist.iter().zip(&node.child) {
+                if d < f32::INFINITY {
+                    let mut i = n;
+                    while i > 0 && order[i - 1].0 < d {
+                        order[i] = order[i - 1];
+                        i -= 1;
                     }
-                } else {
-                    let (near, far) = if negative[node.axis as usize] {
-                        (node.offset as usize, current + 1)
-                    } else {
-                        (current + 1, node.offset as usize)
-                    };
-                    if top < STACK {
-                        stack[top] = far as u32;
-                        top += 1;
-                    }
-                    current = near;
-                    continue;
+                    order[i] = (d, child);
+                    n += 1;
                 }
             }
-            if top == 0 {
-                return;
+            // Leaves at once, nearest first, so their hits cull what follows.
+            for &(d, word) in order[..n].iter().rev() {
+                if word & LEAF == 0 || d > t_max {
+                    continue;
+                }
+                let first = (word & SLOT_MASK) as usize;
+                let count = ((word >> 29) & 3) as usize + 1;
+                for slot in first..first + count {
+                    if let Some(t) = visit(slot, t_max) {
+                        t_max = t;
+                        if t_max < 0.0 {
+                            return;
+                        }
+                    }
+                }
             }
-            top -= 1;
-            current = stack[top] as usize;
+            // Inner children onto the stack, farthest first, so the nearest
+            // pops next.
+            for &(d, word) in &order[..n] {
+                if word & LEAF == 0 && d <= t_max && top < STACK {
+                    stack[top] = pack(word, d);
+                    top += 1;
+                }
+            }
         }
     }
+
+    /// Whether `hit(slot, t_max)` is true for some leaf primitive whose box
+    /// the ray enters before `t_max`: an any-hit walk for shadow rays that
+    /// stops visiting primitives at the first hit (the rest of the walk only
+    /// drains the stack, every box now failing against a negative `t_max`).
+    #[inline]
+    pub fn traverse_any(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut hit: impl FnMut(usize, f32) -> bool,
+    ) -> bool {
+        let mut found = false;
+        self.traverse(ray, t_max, |slot, t| {
+            if found || !hit(slot, t) {
+                return None;
+            }
+            found = true;
+            Some(-1.0)
+        });
+        found
+    }
+}
+
+/// Appends the binary subtree over `items` (whose first primitive slot is
+/// `first`) to `nodes`, depth first, left child right after its parent.
+fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize) {
+    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(&it.bounds));
+    let leaf = |nodes: &mut Vec<BinaryNode>| {
+        nodes.push(BinaryNode {
+            bounds,
+            offset: first as u32,
+            count: items.len() as u32,
+        })
+    };
+    if items.len() <= 1 {
+        leaf(nodes);
+        return;
+    }
+    let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
+    let split = best_split(items, &centroids);
+    let leaf_cost = items.len() as f32;
+    if items.len() <= MAX_LEAF && split.is_none_or(|(_, _, cost)| cost >= leaf_cost) {
+        leaf(nodes);
+        return;
+    }
+    let (axis, mut mid) = match split {
+        Some((axis, boundary, _)) => (
+            axis,
+            partition(items, |it| bin_of(it.centroid, &centroids, axis) < boundary),
+        ),
+        None => (bounds.extent().max_position(), 0),
+    };
+    if mid == 0 || mid == items.len() {
+        // All centroids coincide: halve by order along the widest axis.
+        items.sort_by(|a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+        mid = items.len() / 2;
+    }
+    let me = nodes.len();
+    nodes.push(BinaryNode {
+        bounds,
+        offset: 0,
+        count: 0,
+    });
+    let (left, right) = items.split_at_mut(mid);
+    build_node(nodes, left, first);
+    nodes[me].offset = nodes.len() as u32;
+    build_node(nodes, right, first + mid);
 }
 
 fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {
@@ -274,8 +461,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn nodes_are_32_bytes() {
-        assert_eq!(std::mem::size_of::<BvhNode>(), 32);
+    fn nodes_are_two_cache_lines() {
+        assert_eq!(std::mem::size_of::<BvhNode>(), 128);
     }
 
     #[test]
@@ -302,5 +489,82 @@ mod tests {
             None
         });
         assert!(!any);
+    }
+
+    /// Pseudo-random unit-interval numbers for the tests (an LCG; geometry
+    /// has no random numbers of its own).
+    fn numbers(seed: u64) -> impl FnMut() -> f32 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    #[test]
+    fn nearest_hit_matches_brute_force_on_random_boxes() {
+        let mut r = numbers(7);
+        let boxes: Vec<Aabb> = (0..1000)
+            .map(|_| {
+                let c = Vec3::new(r(), r(), r()) * 20.0;
+                let h = Vec3::new(r(), r(), r()) * 0.7;
+                Aabb::new(c - h, c + h)
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..1000).collect::<Vec<u32>>());
+        let mut hits = 0;
+        for _ in 0..500 {
+            let origin = Vec3::new(r(), r(), r()) * 30.0 - 5.0;
+            let dir = (Vec3::new(r(), r(), r()) * 20.0 - origin).normalize();
+            let ray = Ray::new(origin, dir, 0.0);
+            let inv = dir.recip();
+            // The entry distance stands in for a primitive's hit distance.
+            let entry = |i: usize| boxes[i].hit(&ray, inv, 0.0, f32::INFINITY);
+            let expected = (0..boxes.len())
+                .filter_map(|i| entry(i).map(|t| (t, i)))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let mut found: Option<(f32, usize)> = None;
+            bvh.traverse(&ray, f32::INFINITY, |slot, t_max| {
+                let i = order[slot] as usize;
+                let t = entry(i).filter(|&t| t < t_max)?;
+                found = Some((t, i));
+                Some(t)
+            });
+            assert_eq!(found.map(|f| f.0), expected.map(|e| e.0));
+            hits += usize::from(expected.is_some());
+        }
+        assert!(hits > 100, "the test rays mostly miss: {hits}");
+    }
+
+    #[test]
+    fn a_negative_t_max_ends_the_traversal() {
+        let boxes: Vec<Aabb> = (0..64)
+            .map(|i| {
+                let x = i as f32 * 2.0;
+                Aabb::new(Vec3::new(x, -1.0, -1.0), Vec3::new(x + 1.0, 1.0, 1.0))
+            })
+            .collect();
+        let (bvh, _) = Bvh::build(&boxes);
+        let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X, 0.0);
+        let mut visits = 0;
+        bvh.traverse(&ray, f32::INFINITY, |_, _| {
+            visits += 1;
+            Some(-1.0)
+        });
+        assert_eq!(visits, 1);
+    }
+
+    #[test]
+    fn a_single_box_is_one_leaf_lane_and_the_bounds_are_kept() {
+        let b = Aabb::new(Vec3::splat(-1.0), Vec3::splat(2.0));
+        let (bvh, order) = Bvh::build(&[b]);
+        assert_eq!((bvh.nodes.len(), order), (1, vec![0]));
+        assert_eq!(bvh.bounds(), b);
+        assert_eq!(Bvh::build(&[]).0.bounds(), Aabb::EMPTY);
     }
 }

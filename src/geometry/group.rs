@@ -2,8 +2,8 @@
 //! unbounded ones (infinite planes), tested after it.
 
 use super::instance::{is_bounded, Instance};
+use super::medium::MediumSegments;
 use super::{Aabb, Bvh, Hit, Ray};
-use crate::render::rng::Rng;
 
 /// Instances under one hierarchy.
 #[derive(Default)]
@@ -40,17 +40,34 @@ impl Group {
         self.bounded.iter().chain(&self.unbounded)
     }
 
+    /// Whether any instance is hit with `t` in `(t_min, t_max)`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+        self.bvh.traverse_any(ray, t_max, |slot, t_max| {
+            self.bounded[slot].occluded(ray, t_min, t_max, media)
+        }) || self
+            .unbounded
+            .iter()
+            .any(|inst| inst.occluded(ray, t_min, t_max, media))
+    }
+
+    #[inline]
+    pub fn intersect(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+    ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         self.bvh.traverse(ray, t_max, |slot, t_max| {
-            let h = self.bounded[slot].intersect(ray, t_min, t_max, rng)?;
+            let h = self.bounded[slot].intersect(ray, t_min, t_max, media)?;
             best = Some(h);
             Some(h.t)
         });
         let mut t_max = best.map_or(t_max, |h| h.t);
         for inst in &self.unbounded {
-            if let Some(h) = inst.intersect(ray, t_min, t_max, rng) {
+            if let Some(h) = inst.intersect(ray, t_min, t_max, media) {
                 t_max = h.t;
                 best = Some(h);
             }

@@ -2,6 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::ray::{offset_origin, SurfacePoint};
 use crate::scene::MaterialId;
 
 /// Where and how a ray hit a surface.
@@ -10,6 +11,9 @@ pub struct Hit {
     /// Ray parameter of the hit.
     pub t: f32,
     pub point: Vec3,
+    /// Bound of the absolute error of each component of `point`, for
+    /// spawning rays off the surface ([`crate::geometry::ray::offset_origin`]).
+    pub error: Vec3,
     /// Unit geometric normal, facing against the ray.
     pub geo_normal: Vec3,
     /// Unit shading normal (interpolated for meshes), on the same side as
@@ -19,4 +23,22 @@ pub struct Hit {
     /// Whether the ray hit the outward-facing side of the surface.
     pub front_face: bool,
     pub material: MaterialId,
+}
+
+impl Hit {
+    /// The origin of a ray leaving the surface in direction `dir`.
+    #[inline]
+    pub fn spawn_origin(&self, dir: Vec3) -> Vec3 {
+        offset_origin(self.point, self.error, self.geo_normal, dir)
+    }
+
+    /// The hit as one end of a shadow segment.
+    #[inline]
+    pub fn surface_point(&self) -> SurfacePoint {
+        SurfacePoint {
+            point: self.point,
+            error: self.error,
+            normal: self.geo_normal,
+        }
+    }
 }

@@ -6,9 +6,10 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Mat4};
 
+use super::medium::MediumSegments;
 use super::object::Geometry;
+use super::ray::transform_point;
 use super::{Aabb, Hit, Ray};
-use crate::render::rng::Rng;
 use crate::scene::motion::CompiledMotion;
 
 /// A fixed object-to-parent transform with what intersection needs cached.
@@ -38,6 +39,16 @@ impl StaticTransform {
 }
 
 impl StaticTransform {
+    /// `ray` in the object space.
+    #[inline]
+    pub fn local(&self, ray: &Ray) -> Ray {
+        Ray::new(
+            self.to_object.transform_point3(ray.origin),
+            self.to_object.transform_vector3(ray.dir),
+            ray.time,
+        )
+    }
+
     /// From a matrix and its inverse computed together (by a compiled
     /// motion), without a general inversion; `None` if either is not finite.
     #[inline]
@@ -104,15 +115,37 @@ impl Instance {
 
     /// The nearest hit with `t` in `(t_min, t_max)`, in the parent's space.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
+    pub fn intersect(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+    ) -> Option<Hit> {
         match &self.placement {
-            Placement::Identity => self.geometry.intersect(ray, t_min, t_max, rng),
-            Placement::Static(s) => self.transformed(ray, s, t_min, t_max, rng),
+            Placement::Identity => self.geometry.intersect_in_media(ray, t_min, t_max, media),
+            Placement::Static(s) => self.transformed(ray, s, t_min, t_max, media),
             Placement::Moving(motion) => {
                 let s = StaticTransform::from_pair(motion.matrices_at(ray.time))?;
-                self.transformed(ray, &s, t_min, t_max, rng)
+                self.transformed(ray, &s, t_min, t_max, media)
             }
         }
+    }
+
+    /// Whether anything is hit with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+        let s = match &self.placement {
+            Placement::Identity => return self.geometry.occluded(ray, t_min, t_max, media),
+            Placement::Static(s) => s.as_ref(),
+            Placement::Moving(motion) => {
+                let Some(s) = StaticTransform::from_pair(motion.matrices_at(ray.time)) else {
+                    return false;
+                };
+                return self.geometry.occluded(&s.local(ray), t_min, t_max, media);
+            }
+        };
+        self.geometry.occluded(&s.local(ray), t_min, t_max, media)
     }
 
     #[inline]
@@ -122,15 +155,12 @@ impl Instance {
         s: &StaticTransform,
         t_min: f32,
         t_max: f32,
-        rng: &mut Rng,
+        media: &mut MediumSegments,
     ) -> Option<Hit> {
-        let local = Ray::new(
-            s.to_object.transform_point3(ray.origin),
-            s.to_object.transform_vector3(ray.dir),
-            ray.time,
-        );
-        let mut h = self.geometry.intersect(&local, t_min, t_max, rng)?;
-        h.point = s.to_parent.transform_point3(h.point);
+        let mut h = self
+            .geometry
+            .intersect_in_media(&s.local(ray), t_min, t_max, media)?;
+        (h.point, h.error) = transform_point(&s.to_parent, h.point, h.error);
         h.geo_normal = s.normal.mul_vec3(h.geo_normal).normalize_or(h.geo_normal);
         h.normal = s.normal.mul_vec3(h.normal).normalize_or(h.geo_normal);
         Some(h)

@@ -1,14 +1,13 @@
-//! Constant-density participating media inside a closed boundary: a ray
-//! scatters at an exponentially distributed distance while inside, any number
-//! of times, including rays that start inside.
+//! Constant-density participating media inside a closed boundary. Geometry
+//! only reports where a ray runs inside a medium (its boundary segments,
+//! including rays that start inside); the integrator samples the free-flight
+//! distance along them (as pbrt-v4 does), so intersection draws no random
+//! numbers.
 
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
-
 use super::object::Geometry;
-use super::{Aabb, Hit, Ray};
-use crate::render::rng::Rng;
+use super::{Aabb, Ray};
 use crate::scene::MaterialId;
 
 /// A homogeneous medium filling `boundary`.
@@ -20,56 +19,102 @@ pub struct Medium {
 }
 
 /// Boundary crossings looked for per ray before giving up (a ray weaving
-/// through a non-convex boundary).
+/// through a non-convex boundary), and the segments one query can hold.
 const MAX_SEGMENTS: usize = 16;
+
+/// A stretch `t0..t1` of a ray inside a medium.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumSegment {
+    pub t0: f32,
+    pub t1: f32,
+    pub density: f32,
+    pub material: MaterialId,
+}
+
+/// The medium segments a query found, in a fixed array (no allocation);
+/// segments past its capacity are dropped, as crossings past
+/// `MAX_SEGMENTS` always were.
+#[derive(Clone, Debug)]
+pub struct MediumSegments {
+    items: [MediumSegment; MAX_SEGMENTS],
+    len: usize,
+}
+
+impl Default for MediumSegments {
+    fn default() -> MediumSegments {
+        let unused = MediumSegment {
+            t0: 0.0,
+            t1: 0.0,
+            density: 0.0,
+            material: MaterialId(0),
+        };
+        MediumSegments {
+            items: [unused; MAX_SEGMENTS],
+            len: 0,
+        }
+    }
+}
+
+impl MediumSegments {
+    #[inline]
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    #[inline]
+    fn push(&mut self, s: MediumSegment) {
+        if self.len < MAX_SEGMENTS {
+            self.items[self.len] = s;
+            self.len += 1;
+        }
+    }
+
+    /// The segments found.
+    #[inline]
+    pub fn as_slice(&self) -> &[MediumSegment] {
+        &self.items[..self.len]
+    }
+}
 
 impl Medium {
     pub fn bounds(&self) -> Aabb {
         self.boundary.bounds()
     }
 
-    /// A scattering event with `t` in `(t_min, t_max)`, if the ray scatters
-    /// inside the boundary before `t_max`.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
+    /// Adds to `out` every stretch of the ray inside the boundary with `t`
+    /// in `(t_min, t_max)`.
+    pub fn segments(&self, ray: &Ray, t_min: f32, t_max: f32, out: &mut MediumSegments) {
         if self.density <= 0.0 {
-            return None;
+            return;
         }
-        let len = ray.dir.length();
         let mut t = t_min;
         for _ in 0..MAX_SEGMENTS {
-            let first = self.boundary.intersect(ray, t, f32::INFINITY, rng)?;
+            let Some(first) = self.boundary.intersect(ray, t, f32::INFINITY) else {
+                return;
+            };
             let (entry, exit) = if first.front_face {
                 let after = step_past(ray, first.t);
-                match self.boundary.intersect(ray, after, f32::INFINITY, rng) {
+                match self.boundary.intersect(ray, after, f32::INFINITY) {
                     Some(h) => (first.t, h.t),
-                    None => return None,
+                    None => return,
                 }
             } else {
                 (t, first.t)
             };
             if entry >= t_max {
-                return None;
+                return;
             }
-            let exit = exit.min(t_max);
-            let distance = -rng.next_f32().max(f32::MIN_POSITIVE).ln() / self.density;
-            let t_hit = entry + distance / len;
-            if t_hit < exit {
-                return Some(Hit {
-                    t: t_hit,
-                    point: ray.at(t_hit),
-                    geo_normal: Vec3::X,
-                    normal: Vec3::X,
-                    uv: Vec2::ZERO,
-                    front_face: true,
-                    material: self.material,
-                });
-            }
+            out.push(MediumSegment {
+                t0: entry,
+                t1: exit.min(t_max),
+                density: self.density,
+                material: self.material,
+            });
             if exit >= t_max {
-                return None;
+                return;
             }
             t = step_past(ray, exit);
         }
-        None
     }
 }
 

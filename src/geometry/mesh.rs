@@ -57,6 +57,20 @@ impl MeshGeometry {
         self.bvh.memory() + self.order.len() * 4
     }
 
+    /// Whether any triangle is hit with `t` in `(t_min, t_max)`; only the
+    /// coverage test runs, no surface data is looked up.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let sheared = ShearedRay::new(ray);
+        let pos = &self.data.positions;
+        self.bvh.traverse_any(ray, t_max, |slot, t_max| {
+            let idx = self.data.triangles[self.order[slot] as usize];
+            sheared
+                .intersect(idx.map(|i| pos[i as usize]), t_min, t_max)
+                .is_some()
+        })
+    }
+
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
         let sheared = ShearedRay::new(ray);
@@ -97,6 +111,7 @@ impl MeshGeometry {
             hit: ShapeHit {
                 t: h.t,
                 point: w.x * a + w.y * b + w.z * c,
+                error: h.error([a, b, c]),
                 normal,
                 uv,
             },

@@ -2,6 +2,7 @@
 //! revolution, transforms, motion, media and the BVH that holds them.
 
 pub mod aabb;
+pub mod bake;
 pub mod build;
 pub mod bvh;
 pub mod group;

@@ -6,13 +6,12 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::group::Group;
-use super::medium::Medium;
+use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::primitives::PrimitiveSet;
 use super::revolution::RevolutionSurface;
 use super::shapes::{Plane, ShapeHit};
 use super::{Aabb, Hit, Ray};
-use crate::render::rng::Rng;
 use crate::scene::MaterialId;
 
 /// Geometry in its own object space.
@@ -46,6 +45,7 @@ pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId) -> Hi
     Hit {
         t: h.t,
         point: h.point,
+        error: h.error,
         geo_normal,
         normal,
         uv: h.uv,
@@ -71,9 +71,40 @@ impl Geometry {
         }
     }
 
-    /// The nearest hit with `t` in `(t_min, t_max)`.
+    /// Whether a surface is hit with `t` in `(t_min, t_max)`: stops at the
+    /// first hit found and builds no [`Hit`]. Medium segments go to `media`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, rng: &mut Rng) -> Option<Hit> {
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+        match self {
+            Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
+            Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
+            Geometry::Revolution { surface, .. } => surface.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Group(g) => g.occluded(ray, t_min, t_max, media),
+            Geometry::Medium(m) => {
+                m.segments(ray, t_min, t_max, media);
+                false
+            }
+            Geometry::Flipped(inner) => inner.occluded(ray, t_min, t_max, media),
+        }
+    }
+
+    /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        self.intersect_in_media(ray, t_min, t_max, &mut MediumSegments::default())
+    }
+
+    /// The nearest surface hit with `t` in `(t_min, t_max)`; the stretches
+    /// of the ray inside media (up to `t_max`) go to `media`.
+    #[inline]
+    pub fn intersect_in_media(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+    ) -> Option<Hit> {
         match self {
             Geometry::Primitives(p) => {
                 let (h, m) = p.intersect(ray, t_min, t_max)?;
@@ -88,6 +119,7 @@ impl Geometry {
                 let h = ShapeHit {
                     t: s.t,
                     point: s.point,
+                    error: s.error,
                     normal: s.normal,
                     uv: s.uv,
                 };
@@ -97,10 +129,13 @@ impl Geometry {
                 let h = plane.intersect(ray, t_min, t_max)?;
                 Some(facing(h, h.normal, ray.dir, *material))
             }
-            Geometry::Group(g) => g.intersect(ray, t_min, t_max, rng),
-            Geometry::Medium(m) => m.intersect(ray, t_min, t_max, rng),
+            Geometry::Group(g) => g.intersect(ray, t_min, t_max, media),
+            Geometry::Medium(m) => {
+                m.segments(ray, t_min, t_max, media);
+                None
+            }
             Geometry::Flipped(inner) => {
-                let mut h = inner.intersect(ray, t_min, t_max, rng)?;
+                let mut h = inner.intersect_in_media(ray, t_min, t_max, media)?;
                 h.front_face = !h.front_face;
                 Some(h)
             }

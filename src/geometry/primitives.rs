@@ -71,6 +71,14 @@ impl PrimitiveSet {
         best
     }
 
+    /// Whether any primitive is hit with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.bvh.traverse_any(ray, t_max, |slot, t_max| {
+            self.prims[slot].intersect(ray, t_min, t_max).is_some()
+        })
+    }
+
     /// Whether the set holds no primitive.
     pub fn is_empty(&self) -> bool {
         self.prims.is_empty()

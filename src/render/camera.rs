@@ -3,14 +3,18 @@
 
 use glam::Vec3;
 
-use super::sampler::{Dim, Sampler};
 use crate::geometry::Ray;
+use crate::sampling::warp::uniform_disk;
+use crate::sampling::{Dim, Sampler};
 use crate::scene::Camera;
 
 /// The camera with its frame precomputed for an image size.
 #[derive(Clone, Debug)]
 pub struct CameraRays {
     origin: Vec3,
+    /// The lower left corner of the focus plane's window, relative to
+    /// `origin`: ray directions are built from camera-relative vectors, so
+    /// they keep their precision however far the camera is from the origin.
     lower_left: Vec3,
     horizontal: Vec3,
     vertical: Vec3,
@@ -37,7 +41,7 @@ impl CameraRays {
         let vertical = focus * viewport_h * v;
         CameraRays {
             origin: cam.from,
-            lower_left: cam.from - horizontal / 2.0 - vertical / 2.0 - focus * w,
+            lower_left: -horizontal / 2.0 - vertical / 2.0 - focus * w,
             horizontal,
             vertical,
             u,
@@ -52,22 +56,22 @@ impl CameraRays {
     #[inline]
     pub fn ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
         sampler.begin(Dim::Camera);
-        let (jx, jy) = sampler.next_2d();
-        let s = (x as f32 + jx) / self.size.0;
-        let t = 1.0 - (y as f32 + jy) / self.size.1;
-        let (dx, dy) = sampler.in_unit_disk();
-        let offset = self.lens_radius * (dx * self.u + dy * self.v);
+        let film = sampler.next_2d();
+        let s = (x as f32 + film.x) / self.size.0;
+        let t = 1.0 - (y as f32 + film.y) / self.size.1;
+        let lens = uniform_disk(sampler.next_2d());
+        let offset = self.lens_radius * (lens.x * self.u + lens.y * self.v);
         let origin = self.origin + offset;
-        let target = self.lower_left + s * self.horizontal + t * self.vertical;
+        let to_target = self.lower_left + s * self.horizontal + t * self.vertical - offset;
         let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * sampler.next_1d();
-        Ray::new(origin, (target - origin).normalize(), time)
+        Ray::new(origin, to_target.normalize(), time)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::sampler::SamplerKind;
+    use crate::sampling::SamplerKind;
 
     #[test]
     fn centre_ray_looks_at_target_and_time_stays_in_shutter() {
@@ -79,17 +83,14 @@ mod tests {
         };
         let rays = CameraRays::new(&cam, 101, 101);
         for i in 0..100 {
-            let mut sampler = Sampler::new(SamplerKind::Sobol, 0, 50, 50, i);
+            let mut sampler = Sampler::for_sample(SamplerKind::Sobol, 0, 50, 50, i);
             let r = rays.ray(50, 50, &mut sampler);
             assert!(r.dir.dot(Vec3::Z) > 0.9999);
             assert!((0.25..=0.5).contains(&r.time));
         }
         // Pixel column 0 is on the image's left: +x for a camera looking +z.
-        let left = rays.ray(
-            0,
-            50,
-            &mut Sampler::new(SamplerKind::Independent, 0, 0, 50, 0),
-        );
+        let mut sampler = Sampler::for_sample(SamplerKind::Independent, 0, 0, 50, 0);
+        let left = rays.ray(0, 50, &mut sampler);
         assert!(left.dir.x > 0.0);
     }
 }

@@ -8,11 +8,11 @@ use std::time::Duration;
 use glam::Vec3;
 
 use super::options::RenderOptions;
-use super::sampler::SamplerKind;
 use super::tiles::{render, RenderError, RenderOutput};
 use crate::geometry::World;
 use crate::picture::metrics::{compare, Metrics};
 use crate::picture::{LinearImage, PictureError};
+use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 
 /// A way of rendering whose convergence is measured.

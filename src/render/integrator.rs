@@ -5,9 +5,10 @@
 //! of lights by multiple importance sampling (power heuristic).
 //!
 //! Mirror, fuzzy metal and glass are not light-sampled: the emission their
-//! scattered rays find counts in full. Shadow rays through media are blocked
-//! by a sampled scattering event, an unbiased binary estimate of the
-//! transmittance.
+//! scattered rays find counts in full. Media: geometry reports the stretches
+//! of a ray inside them and the integrator samples the free-flight distance
+//! along each (exponential in the density); shadow rays through media carry
+//! the exact transmittance of a homogeneous medium.
 
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -15,17 +16,15 @@ use glam::Vec3;
 
 use super::lights::LightList;
 use super::material::interact;
-use super::sampler::{Dim, Sampler};
 use super::texture::lookup;
-use crate::geometry::ray::offset_origin;
+use crate::geometry::medium::{MediumSegment, MediumSegments};
+use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
-use crate::scene::{Background, Material, Scene};
+use crate::sampling::{Dim, Sampler};
+use crate::scene::{Background, Material, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
 const ROULETTE_AFTER: u32 = 4;
-
-/// Shadow rays stop this fraction short of the light point.
-const SHADOW_SHORTEN: f32 = 1e-4;
 
 /// What one path needs: the scene's data and its geometry.
 pub struct Tracer<'a> {
@@ -61,22 +60,28 @@ impl Tracer<'_> {
     /// The radiance arriving along `ray` (unit direction) and the number of
     /// rays traced for it (shadow rays included).
     #[inline]
-    pub fn radiance(&self, mut ray: Ray, rng: &mut Sampler) -> (Vec3, u32) {
+    pub fn radiance(&self, mut ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
         let lights = self.world.lights();
         let nee = self.light_sampling && !lights.is_empty();
         let mut radiance = Vec3::ZERO;
         let mut throughput = Vec3::ONE;
         let mut previous = Previous::Specular;
         let mut rays = 0u32;
+        let mut media = MediumSegments::default();
         for depth in 0..self.max_depth {
             rays += 1;
-            rng.start_bounce(depth);
-            let Some(hit) = self.world.intersect(&ray, 0.0, f32::INFINITY, rng.rng()) else {
+            sampler.start_bounce(depth);
+            let surface = self
+                .world
+                .intersect_in_media(&ray, 0.0, f32::INFINITY, &mut media);
+            let t_end = surface.map_or(f32::INFINITY, |h| h.t);
+            let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
+            let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
                 radiance += throughput * background(&self.scene.settings.background, ray.dir);
                 return (radiance, rays);
             };
-            rng.begin(Dim::Bsdf);
-            let step = interact(self.scene, &hit, ray.dir, rng);
+            sampler.begin(Dim::Bsdf);
+            let step = interact(self.scene, &hit, ray.dir, sampler);
             if step.emitted != Vec3::ZERO {
                 let weight = match previous {
                     Previous::Scattered { point, pdf }
@@ -101,7 +106,8 @@ impl Tracer<'_> {
                         lights,
                         &hit,
                         ray.time,
-                        rng,
+                        sampler,
+                        &mut media,
                         |wi| {
                             let cos = hit.normal.dot(wi);
                             (cos > 0.0 && hit.geo_normal.dot(wi) > 0.0)
@@ -121,7 +127,8 @@ impl Tracer<'_> {
                         lights,
                         &hit,
                         ray.time,
-                        rng,
+                        sampler,
+                        &mut media,
                         |_| Some((f, 1.0 / (4.0 * PI))),
                         throughput,
                         &mut radiance,
@@ -136,13 +143,13 @@ impl Tracer<'_> {
             throughput *= attenuation;
             if depth >= ROULETTE_AFTER {
                 let survive = throughput.max_element().min(0.95);
-                rng.begin(Dim::Roulette);
-                if rng.next_1d() >= survive {
+                sampler.begin(Dim::Roulette);
+                if sampler.next_1d() >= survive {
                     return (radiance, rays);
                 }
                 throughput /= survive;
             }
-            ray = Ray::new(offset_origin(hit.point, hit.geo_normal, dir), dir, ray.time);
+            ray = Ray::new(hit.spawn_origin(dir), dir, ray.time);
         }
         (radiance, rays)
     }
@@ -158,13 +165,14 @@ impl Tracer<'_> {
         lights: &LightList,
         hit: &Hit,
         time: f32,
-        rng: &mut Sampler,
+        sampler: &mut Sampler,
+        media: &mut MediumSegments,
         scatter: impl Fn(Vec3) -> Option<(Vec3, f32)>,
         throughput: Vec3,
         radiance: &mut Vec3,
     ) -> u32 {
-        rng.begin(Dim::Light);
-        let Some(s) = lights.sample(hit.point, rng) else {
+        sampler.begin(Dim::Light);
+        let Some(s) = lights.sample(hit.point, sampler) else {
             return 0;
         };
         let Some((f, scatter_pdf)) = scatter(s.dir) else {
@@ -173,20 +181,76 @@ impl Tracer<'_> {
         if !(s.pdf > 0.0 && s.pdf.is_finite()) {
             return 0;
         }
-        let origin = offset_origin(hit.point, hit.geo_normal, s.dir);
-        let shadow = Ray::new(origin, s.dir, time);
-        let t_max = s.dist * (1.0 - SHADOW_SHORTEN);
-        if self
-            .world
-            .intersect(&shadow, 0.0, t_max, rng.rng())
-            .is_some()
-        {
+        let shadow = spawn_to(hit.surface_point(), s.target, time);
+        if self.world.occluded(&shadow, 0.0, SHADOW_END, media) {
             return 1;
         }
         let weight = power_heuristic(s.pdf, scatter_pdf);
-        *radiance += throughput * f * s.emitted * (weight / s.pdf);
+        let seen = transmittance(&shadow, SHADOW_END, media.as_slice());
+        *radiance += throughput * f * s.emitted * (seen * weight / s.pdf);
         1
     }
+}
+
+/// The nearest medium scattering before `t_end` along `ray` and the
+/// medium's phase material: a free-flight distance sampled in each stretch
+/// (the exponential distribution is memoryless, so stretches of one medium
+/// and overlapping media are sampled independently).
+#[inline]
+fn free_flight(
+    ray: &Ray,
+    t_end: f32,
+    segments: &[MediumSegment],
+    sampler: &mut Sampler,
+) -> Option<(f32, MaterialId)> {
+    let mut best: Option<(f32, MaterialId)> = None;
+    if segments.is_empty() {
+        return best;
+    }
+    let len = ray.dir.length();
+    for (k, s) in (0u32..).zip(segments) {
+        let end = s.t1.min(t_end);
+        if s.t0 >= end {
+            continue;
+        }
+        sampler.begin(Dim::Medium(k));
+        let u = 1.0 - sampler.next_1d();
+        let t = s.t0 + -u.max(f32::MIN_POSITIVE).ln() / (s.density * len);
+        if t < end && best.is_none_or(|(b, _)| t < b) {
+            best = Some((t, s.material));
+        }
+    }
+    best
+}
+
+/// A scattering point inside a medium: no surface, so no error to leave by.
+#[inline]
+fn medium_point(ray: &Ray, t: f32, material: MaterialId) -> Hit {
+    Hit {
+        t,
+        point: ray.at(t),
+        error: Vec3::ZERO,
+        geo_normal: Vec3::X,
+        normal: Vec3::X,
+        uv: glam::Vec2::ZERO,
+        front_face: true,
+        material,
+    }
+}
+
+/// The fraction of light crossing `ray` up to `t_end` that no medium
+/// scatters: exp(−density × length) per stretch.
+#[inline]
+fn transmittance(ray: &Ray, t_end: f32, segments: &[MediumSegment]) -> f32 {
+    if segments.is_empty() {
+        return 1.0;
+    }
+    let len = ray.dir.length();
+    let depth: f32 = segments
+        .iter()
+        .map(|s| s.density * (s.t1.min(t_end) - s.t0).max(0.0) * len)
+        .sum();
+    (-depth).exp()
 }
 
 /// The colour seen along a ray that leaves the scene.

@@ -13,9 +13,10 @@ use std::f32::consts::TAU;
 
 #[cfg(test)]
 use glam::Mat4;
-use glam::{Affine3A, Mat3A, Vec3};
+use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
-use super::sampler::Sampler;
+use crate::geometry::ray::{gamma, SurfacePoint};
+use crate::sampling::Sampler;
 use crate::scene::object::RectPlane;
 use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
 
@@ -86,6 +87,9 @@ pub struct LightSample {
     pub emitted: Vec3,
     /// Density of `dir` in solid angle, light choice included.
     pub pdf: f32,
+    /// The light point with its error bound and its normal, the far end of
+    /// the shadow ray ([`crate::geometry::ray::spawn_to`]).
+    pub target: SurfacePoint,
 }
 
 /// Every sampled light, with the cumulative selection weights.
@@ -169,17 +173,24 @@ impl LightList {
 
     /// Samples a light point seen from `p`; `None` if there is no light or
     /// the chosen point emits nothing towards `p`.
-    pub fn sample(&self, p: Vec3, rng: &mut Sampler) -> Option<LightSample> {
+    pub fn sample(&self, p: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
         let last = self.lights.len().checked_sub(1)?;
-        let u = rng.next_1d() * self.total;
+        let u = sampler.next_1d() * self.total;
         let i = self.cdf.partition_point(|&c| c <= u).min(last);
         let light = &self.lights[i];
         let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
-        let (u1, u2) = rng.next_2d();
-        let (x, n, pdf) = match light.shape {
+        let Vec2 { x: u1, y: u2 } = sampler.next_2d();
+        // Each arm bounds the error of `x` from the light's world-space
+        // data, whose own rounding (the transform applied when the list was
+        // built) is of the same order as the geometry's.
+        let (x, error, n, pdf) = match light.shape {
             LightShape::Sphere { center, radius } => {
                 let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
-                (x, (x - center) / radius, pdf)
+                // Reprojected onto the sphere, as a sphere hit is.
+                let n = (x - center).normalize_or(Vec3::Y);
+                let x = center + n * radius;
+                let error = gamma(8) * (Vec3::splat(radius) + center.abs()) + gamma(2) * x.abs();
+                (x, error, n, pdf)
             }
             LightShape::Parallelogram {
                 corner,
@@ -187,8 +198,10 @@ impl LightList {
                 normal,
             } => {
                 let x = corner + u1 * edges.0 + u2 * edges.1;
+                let error = gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs());
                 (
                     x,
+                    error,
                     normal,
                     area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
                 )
@@ -196,8 +209,10 @@ impl LightList {
             LightShape::Triangle { v, normal } => {
                 let s = u1.sqrt();
                 let x = (1.0 - s) * v[0] + s * (1.0 - u2) * v[1] + s * u2 * v[2];
+                let error = gamma(10) * (v[0].abs() + v[1].abs() + v[2].abs());
                 (
                     x,
+                    error,
                     normal,
                     area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
                 )
@@ -214,6 +229,11 @@ impl LightList {
             dist,
             emitted: light.emit,
             pdf: pdf * select,
+            target: SurfacePoint {
+                point: x,
+                error,
+                normal: n,
+            },
         })
     }
 
@@ -515,8 +535,8 @@ impl Walker<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::sampler::SamplerKind;
     use crate::render::scenes::cornell_box;
+    use crate::sampling::SamplerKind;
 
     #[test]
     fn the_cornell_lamp_is_one_downward_parallelogram() {
@@ -557,7 +577,7 @@ mod tests {
         p: Vec3,
         normal_at: impl Fn(Vec3) -> Vec3,
     ) -> f64 {
-        let mut rng = Sampler::new(SamplerKind::Independent, 1, 0, 0, 0);
+        let mut rng = Sampler::for_sample(SamplerKind::Independent, 1, 0, 0, 0);
         let n = 40_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
@@ -628,7 +648,7 @@ mod tests {
             two_sided: false,
         };
         let list = LightList::build(&one_sided);
-        let mut rng = Sampler::new(SamplerKind::Independent, 2, 0, 0, 0);
+        let mut rng = Sampler::for_sample(SamplerKind::Independent, 2, 0, 0, 0);
         assert!(list.sample(Vec3::ZERO, &mut rng).is_none());
         assert!(list.sample(Vec3::new(0.0, 0.0, 2.0), &mut rng).is_some());
         let mut moving = scene;

@@ -4,9 +4,10 @@
 
 use glam::Vec3;
 
-use super::sampler::Sampler;
 use super::texture::lookup;
 use crate::geometry::Hit;
+use crate::sampling::warp::{cosine_hemisphere, uniform_ball, uniform_sphere};
+use crate::sampling::Sampler;
 use crate::scene::{Material, Scene};
 
 /// What a surface does to a path arriving along `dir`.
@@ -19,18 +20,20 @@ pub struct Interaction {
 
 /// How the material of `hit` scatters a path arriving along unit `dir`.
 #[inline]
-pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, rng: &mut Sampler) -> Interaction {
+pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, sampler: &mut Sampler) -> Interaction {
     let albedo = |id| lookup(scene, id, hit.uv, hit.point);
     let bounce = |attenuation, d| Interaction {
         emitted: Vec3::ZERO,
         bounce: Some((attenuation, d)),
     };
     match *scene.material(hit.material) {
-        Material::Lambertian { albedo: tex } => {
-            bounce(albedo(tex), cosine_direction(hit.normal, rng))
-        }
+        Material::Lambertian { albedo: tex } => bounce(
+            albedo(tex),
+            cosine_hemisphere(hit.normal, sampler.next_2d()),
+        ),
         Material::Metal { albedo: tex, fuzz } => {
-            let d = reflect(dir, hit.normal) + fuzz * rng.in_unit_ball();
+            let u = sampler.next_2d();
+            let d = reflect(dir, hit.normal) + fuzz * uniform_ball(u, sampler.next_1d());
             if d.dot(hit.geo_normal) <= 0.0 {
                 return Interaction {
                     emitted: Vec3::ZERO,
@@ -39,7 +42,9 @@ pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, rng: &mut Sampler) -> Inter
             }
             bounce(albedo(tex), d.normalize())
         }
-        Material::Dielectric { ior } => bounce(Vec3::ONE, dielectric(dir, hit, ior, rng)),
+        Material::Dielectric { ior } => {
+            bounce(Vec3::ONE, dielectric(dir, hit, ior, sampler.next_1d()))
+        }
         Material::Light { emit, two_sided } => Interaction {
             emitted: if hit.front_face || two_sided {
                 albedo(emit)
@@ -48,17 +53,10 @@ pub fn interact(scene: &Scene, hit: &Hit, dir: Vec3, rng: &mut Sampler) -> Inter
             },
             bounce: None,
         },
-        Material::Isotropic { albedo: tex } => bounce(albedo(tex), rng.unit_vector()),
+        Material::Isotropic { albedo: tex } => {
+            bounce(albedo(tex), uniform_sphere(sampler.next_2d()))
+        }
     }
-}
-
-/// A direction about `n` with density cos θ / π.
-#[inline]
-pub fn cosine_direction(n: Vec3, rng: &mut Sampler) -> Vec3 {
-    let (x, y) = rng.in_unit_disk();
-    let z = (1.0 - x * x - y * y).max(0.0).sqrt();
-    let (t, b) = n.any_orthonormal_pair();
-    (x * t + y * b + z * n).normalize()
 }
 
 #[inline]
@@ -67,8 +65,8 @@ fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 }
 
 /// Refracts or reflects unit `dir` at `hit`, choosing by the exact Fresnel
-/// reflectance of unpolarised light.
-fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Sampler) -> Vec3 {
+/// reflectance of unpolarised light against the uniform number `u`.
+fn dielectric(dir: Vec3, hit: &Hit, ior: f32, u: f32) -> Vec3 {
     let eta = if hit.front_face { 1.0 / ior } else { ior };
     let n = hit.normal;
     let cos_i = (-dir.dot(n)).clamp(0.0, 1.0);
@@ -80,7 +78,7 @@ fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Sampler) -> Vec3 {
     let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let fresnel = 0.5 * (rs * rs + rp * rp);
-    if rng.next_1d() < fresnel {
+    if u < fresnel {
         reflect(dir, n)
     } else {
         (eta * dir + (eta * cos_i - cos_t) * n).normalize()
@@ -90,24 +88,7 @@ fn dielectric(dir: Vec3, hit: &Hit, ior: f32, rng: &mut Sampler) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::sampler::SamplerKind;
-
-    fn stream(seed: u64) -> Sampler {
-        Sampler::new(SamplerKind::Independent, seed, 0, 0, 0)
-    }
-
-    #[test]
-    fn cosine_directions_have_the_right_mean_cosine() {
-        let mut rng = stream(3);
-        let n = Vec3::new(0.0, 0.6, 0.8);
-        let count = 200_000;
-        let mean: f32 = (0..count)
-            .map(|_| cosine_direction(n, &mut rng).dot(n))
-            .sum::<f32>()
-            / count as f32;
-        // E[cos θ] = 2/3 under the cosine density (1/2 under uniform).
-        assert!((mean - 2.0 / 3.0).abs() < 0.005, "mean cosine {mean}");
-    }
+    use crate::sampling::Rng;
 
     /// A hit at the origin on a surface with normal +y, seen from its
     /// front (outside) or back (inside).
@@ -115,6 +96,7 @@ mod tests {
         Hit {
             t: 1.0,
             point: Vec3::ZERO,
+            error: Vec3::ZERO,
             geo_normal: Vec3::Y,
             normal: Vec3::Y,
             uv: glam::Vec2::ZERO,
@@ -125,15 +107,15 @@ mod tests {
 
     #[test]
     fn ior_one_passes_straight_and_total_internal_reflection_reflects() {
-        let mut rng = stream(1);
+        let mut rng = Rng::for_sample(1, 2, 3, 4);
         let dir = Vec3::new(0.6, -0.8, 0.0);
         let hit = upward_hit(true);
         for _ in 0..100 {
-            assert!((dielectric(dir, &hit, 1.0, &mut rng) - dir).length() < 1e-6);
+            assert!((dielectric(dir, &hit, 1.0, rng.next_f32()) - dir).length() < 1e-6);
         }
         let inside = upward_hit(false);
         let grazing = Vec3::new(0.9, -(1.0f32 - 0.81).sqrt(), 0.0);
-        let out = dielectric(grazing, &inside, 1.5, &mut rng);
+        let out = dielectric(grazing, &inside, 1.5, rng.next_f32());
         assert!(out.y > 0.0, "total internal reflection expected, got {out}");
     }
 
@@ -141,9 +123,9 @@ mod tests {
     /// ior 10 (normal +y) that it reflects.
     fn reflected_fraction(dir: Vec3, front_face: bool, count: u32) -> f64 {
         let hit = upward_hit(front_face);
-        let mut rng = stream(10);
+        let mut rng = Rng::for_sample(10, 0, 0, 0);
         let reflected = (0..count)
-            .filter(|_| dielectric(dir, &hit, 10.0, &mut rng).y > 0.0)
+            .filter(|_| dielectric(dir, &hit, 10.0, rng.next_f32()).y > 0.0)
             .count();
         reflected as f64 / count as f64
     }

@@ -16,10 +16,8 @@ pub mod options;
 pub mod output;
 pub mod piece;
 pub mod progress;
-pub mod rng;
-pub mod sampler;
+pub mod raycast;
 pub mod scenes;
-pub mod sobol;
 pub mod texture;
 pub mod tiles;
 

@@ -1,7 +1,7 @@
 //! What to render: image size, samples, depth, seed, threads and crop, with
 //! the scene's settings as defaults.
 
-use super::sampler::SamplerKind;
+use crate::sampling::SamplerKind;
 use crate::scene::Settings;
 
 /// A half-open pixel rectangle `x0..x1 × y0..y1` of the full image.

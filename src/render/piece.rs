@@ -109,7 +109,7 @@ impl PieceInfo {
 }
 
 fn independent() -> String {
-    super::sampler::SamplerKind::Independent.name().to_string()
+    crate::sampling::SamplerKind::Independent.name().to_string()
 }
 
 /// `image` with `.json` appended: `tile.exr` → `tile.exr.json`.

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::rng::Rng;
+use crate::sampling::Rng;
 use crate::scene::object::RectPlane;
 use crate::scene::{Background, Camera, Material, MaterialId, Node, Scene, Shape, Texture};
 

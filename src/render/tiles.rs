@@ -17,8 +17,8 @@ use super::camera::CameraRays;
 use super::film::Film;
 use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
-use super::sampler::{Sampler, SamplerKind};
 use crate::geometry::World;
+use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 
 /// Tile edge in pixels.
@@ -299,7 +299,8 @@ impl Job<'_> {
                         }
                     }
                     traced += 1;
-                    let mut sampler = Sampler::new(self.sampler, self.seed, x, y, self.first + s);
+                    let mut sampler =
+                        Sampler::for_sample(self.sampler, self.seed, x, y, self.first + s);
                     let ray = self.camera.ray(x, y, &mut sampler);
                     let (mut l, rays) = self.tracer.radiance(ray, &mut sampler);
                     if let Some(c) = self.clamp {

@@ -27,6 +27,12 @@ use newton::Window;
 use profile::Profile;
 use shell::{AxisRay, Node, Piece, Shells};
 
+/// Relative margin added to a hit's error bound. Newton's roots are
+/// verified only to the tolerance and a leaving ray's search window reaches
+/// slightly past its span, so a rigorous bound is open; this is the old
+/// push-off (2⁻¹⁶ |p|), with which the gallery's mirror renders unbiased.
+const LEAVE_MARGIN: f32 = 1.0 / 65536.0;
+
 /// Newton iterations per start before it counts as not converging.
 const DEFAULT_MAX_ITERATIONS: u32 = 24;
 
@@ -35,6 +41,11 @@ const DEFAULT_MAX_ITERATIONS: u32 = 24;
 pub struct SurfaceHit {
     pub t: f32,
     pub point: Vec3,
+    /// Bound of the absolute error of each component of `point`: four
+    /// Newton tolerances (so a ray leaving by it is never within one
+    /// tolerance of the surface it left, where Newton would accept a root)
+    /// plus [`LEAVE_MARGIN`] of the point's magnitude.
+    pub error: Vec3,
     /// Unit normal pointing away from the axis side of the profile.
     pub normal: Vec3,
     /// (angle / 2π, curve parameter).
@@ -208,6 +219,7 @@ impl RevolutionSurface {
         SurfaceHit {
             t: t as f32,
             point: p.as_vec3(),
+            error: Vec3::splat(4.0 * self.tolerance as f32) + LEAVE_MARGIN * p.as_vec3().abs(),
             normal: normal.as_vec3(),
             uv: uv.as_vec2(),
         }

@@ -4,6 +4,7 @@
 use glam::{Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
 /// A solid box from `min` to `max`.
@@ -56,9 +57,13 @@ impl Cuboid {
         normal[axis] = if at_max { 1.0 } else { -1.0 };
         let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
         let ext = (self.max - self.min).max(Vec3::splat(f32::MIN_POSITIVE));
+        // The face coordinate is exact; the others come from `ray.at(t)`.
+        let mut error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
+        error[axis] = 0.0;
         Some(ShapeHit {
             t,
             point,
+            error,
             normal,
             uv: Vec2::new(
                 (point[i] - self.min[i]) / ext[i],
@@ -103,19 +108,23 @@ mod tests {
             min: base,
             max: base + Vec3::splat(10.0),
         };
-        let p = base + Vec3::new(5.0, 10.0, 5.0);
+        let above = base + Vec3::new(5.0, 13.0, 5.0);
+        let top = c
+            .intersect(&Ray::new(above, Vec3::NEG_Y, 0.0), 0.0, f32::INFINITY)
+            .expect("hits the top");
+        let p = top.point;
         for d in [
             Vec3::new(0.0, 1.0, 0.0),
             Vec3::new(1.0, 1e-3, 0.0),
             Vec3::new(-0.3, 0.2, 0.9),
         ] {
-            let o = offset_origin(p, Vec3::Y, d);
+            let o = offset_origin(p, top.error, Vec3::Y, d);
             assert!(c
                 .intersect(&Ray::new(o, d, 0.0), 0.0, f32::INFINITY)
                 .is_none());
         }
         let inward = Vec3::new(0.2, -1.0, 0.1);
-        let o = offset_origin(p, Vec3::Y, inward);
+        let o = offset_origin(p, top.error, Vec3::Y, inward);
         let h = c
             .intersect(&Ray::new(o, inward, 0.0), 0.0, f32::INFINITY)
             .expect("exits bottom");

@@ -21,6 +21,8 @@ pub use triangle::Triangle;
 pub struct ShapeHit {
     pub t: f32,
     pub point: Vec3,
+    /// Bound of the absolute error of each component of `point`.
+    pub error: Vec3,
     /// Unit outward normal.
     pub normal: Vec3,
     pub uv: Vec2,

@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::ray::gamma;
 use crate::geometry::Ray;
 
 /// The plane through `point` with unit `normal` (the outward side).
@@ -27,9 +28,13 @@ impl Plane {
         let point = ray.at(t);
         let (u_axis, v_axis) = self.normal.any_orthonormal_pair();
         let rel = point - self.point;
+        // `t` carries the rounding of `point − origin`, of two dot products
+        // and a division; `ray.at(t)` two more.
+        let error = gamma(10) * (ray.origin.abs() + self.point.abs() + (t * ray.dir).abs());
         Some(ShapeHit {
             t,
             point,
+            error,
             normal: self.normal,
             uv: Vec2::new(rel.dot(u_axis), rel.dot(v_axis)),
         })
@@ -62,12 +67,15 @@ mod tests {
         assert!((h.t - 6.0).abs() < 1e-4);
         for x in [1e-3f32, 1.0, 1e3, 1e5] {
             let pt = Vec3::new(x, -2.0, -x);
+            let h = p
+                .intersect(&Ray::new(pt + Vec3::Y * 3.0, Vec3::NEG_Y, 0.0), 0.0, 1e9)
+                .expect("hits");
             for d in [
                 Vec3::new(1.0, 1e-3, 0.0),
                 Vec3::Y,
                 Vec3::new(-1.0, 0.5, 1.0),
             ] {
-                let o = offset_origin(pt, Vec3::Y, d);
+                let o = offset_origin(h.point, h.error, Vec3::Y, d);
                 assert!(p
                     .intersect(&Ray::new(o, d, 0.0), 0.0, f32::INFINITY)
                     .is_none());

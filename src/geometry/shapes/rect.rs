@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 use crate::scene::object::RectPlane;
 
@@ -68,9 +69,14 @@ impl Rect {
         point[ax] = self.k;
         let mut normal = Vec3::ZERO;
         normal[ax] = 1.0;
+        // The coordinate along the normal is exact; the others come from
+        // `ray.at(t)` with a rounded `t`.
+        let mut error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
+        error[ax] = 0.0;
         Some(ShapeHit {
             t,
             point,
+            error,
             normal,
             uv: Vec2::new(
                 (x - self.a.0) / (self.a.1 - self.a.0).max(f32::MIN_POSITIVE),
@@ -102,7 +108,7 @@ mod tests {
         assert!(r.intersect(&out, 0.0, f32::INFINITY).is_none());
         let parallel = Ray::new(Vec3::new(278.0, 554.0, 0.0), Vec3::Z, 0.0);
         assert!(r.intersect(&parallel, 0.0, f32::INFINITY).is_none());
-        let from = offset_origin(h.point, Vec3::Y, Vec3::new(0.3, -1.0, 0.1));
+        let from = offset_origin(h.point, h.error, Vec3::Y, Vec3::new(0.3, -1.0, 0.1));
         let back = Ray::new(from, Vec3::new(0.3, -1.0, 0.1), 0.0);
         assert!(r.intersect(&back, 0.0, f32::INFINITY).is_none());
     }

@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
 /// A sphere by centre and radius (> 0).
@@ -57,11 +58,18 @@ impl Sphere {
         } else {
             return None;
         };
-        let point = ray.origin + t * d;
-        let normal = ((point - self.center) / r).normalize_or(Vec3::Y);
+        // Reproject the point onto the sphere: its error is then a few
+        // roundings of the radius and of the final sum (pbrt-v4).
+        // A negative radius turns the normal inwards (a hollow bubble).
+        let rel = ray.origin + t * d - self.center;
+        let outward = (rel / rel.length()).normalize_or(Vec3::Y);
+        let rel = outward * r.abs();
+        let point = self.center + rel;
+        let normal = outward * r.signum();
         Some(ShapeHit {
             t: t / len,
             point,
+            error: gamma(6) * rel.abs() + gamma(1) * point.abs(),
             normal,
             uv: sphere_uv(normal),
         })
@@ -102,9 +110,12 @@ mod tests {
         ] {
             let s = Sphere { center, radius };
             for n in dirs() {
-                let p = center + n * radius;
+                let towards = Ray::new(center + n * (3.0 * radius), -n, 0.0);
+                let h = s
+                    .intersect(&towards, 0.0, f32::INFINITY)
+                    .expect("aimed at the centre");
                 for d in dirs() {
-                    let o = offset_origin(p, n, d);
+                    let o = offset_origin(h.point, h.error, h.normal, d);
                     let hit = s.intersect(&Ray::new(o, d, 0.0), 0.0, f32::INFINITY);
                     if d.dot(n) > 0.0 {
                         assert!(hit.is_none(), "re-hit leaving r={radius} {hit:?}");

@@ -11,6 +11,7 @@
 use glam::{DVec2, Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
 /// A single triangle.
@@ -89,6 +90,16 @@ impl ShearedRay {
     }
 }
 
+impl TriangleHit {
+    /// The error bound of the point `bary · p` (pbrt-v4's barycentric
+    /// reconstruction bound).
+    #[inline]
+    pub fn error(&self, p: [Vec3; 3]) -> Vec3 {
+        let w = self.bary;
+        gamma(7) * ((w.x * p[0]).abs() + (w.y * p[1]).abs() + (w.z * p[2]).abs())
+    }
+}
+
 impl Triangle {
     pub fn bounds(&self) -> Aabb {
         let [a, b, c] = self.v;
@@ -104,6 +115,7 @@ impl Triangle {
         Some(ShapeHit {
             t: h.t,
             point: h.bary.x * a + h.bary.y * b + h.bary.z * c,
+            error: h.error([a, b, c]),
             normal: (b - a).cross(c - a).normalize_or(Vec3::Y),
             uv: Vec2::new(h.bary.y, h.bary.z),
         })
@@ -148,16 +160,20 @@ mod tests {
             v: [o, o + Vec3::X * 3.0, o + Vec3::Y * 3.0],
         };
         let p = o + Vec3::new(1.0, 1.0, 0.0);
+        let h = tri
+            .intersect(&Ray::new(p + Vec3::Z * 7.0, Vec3::NEG_Z, 0.0), 0.0, 1e9)
+            .expect("hits");
+        let p = h.point;
         for d in [
             Vec3::Z,
             Vec3::new(1.0, 0.0, 1e-3),
             Vec3::new(-0.5, 0.3, 0.2),
         ] {
-            let from = offset_origin(p, Vec3::Z, d);
+            let from = offset_origin(p, h.error, Vec3::Z, d);
             assert!(tri
                 .intersect(&Ray::new(from, d, 0.0), 0.0, f32::INFINITY)
                 .is_none());
-            let from = offset_origin(p, Vec3::Z, -d);
+            let from = offset_origin(p, h.error, Vec3::Z, -d);
             assert!(tri
                 .intersect(&Ray::new(from, -d, 0.0), 0.0, f32::INFINITY)
                 .is_none());

@@ -2,6 +2,10 @@
 //! (scene seed, pixel x, pixel y, sample index) and nothing else, so a pixel's
 //! samples are the same whatever thread or tile renders them.
 
+use glam::{Vec2, Vec3};
+
+use super::warp;
+
 /// PCG-XSH-RR 32-bit output, 64-bit state.
 #[derive(Clone, Debug)]
 pub struct Rng {
@@ -46,6 +50,19 @@ impl Rng {
     #[inline]
     pub fn next_f32(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+    }
+
+    /// Uniform on the unit sphere.
+    #[inline]
+    pub fn unit_vector(&mut self) -> Vec3 {
+        let u = Vec2::new(self.next_f32(), self.next_f32());
+        warp::uniform_sphere(u)
+    }
+
+    /// Uniform in the unit ball.
+    #[inline]
+    pub fn in_unit_ball(&mut self) -> Vec3 {
+        self.unit_vector() * self.next_f32().cbrt()
     }
 }
 

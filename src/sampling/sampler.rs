@@ -7,9 +7,9 @@
 //! resume. Dimensions are allocated in fixed slots (`Dim`): the camera takes
 //! slots 0–2 (pixel 2-D, lens 2-D, time 1-D) and bounce `b` the six slots
 //! from `3 + 6b`: light choice, light point (2-D), BSDF direction (2-D), BSDF
-//! lobe (Fresnel choice or fuzz radius), Russian roulette, and one spare for
-//! the medium distance (media still draw from the independent stream, inside
-//! the geometry). Each slot gets its own scrambled, index-shuffled copy of the
+//! lobe (Fresnel choice or fuzz radius), Russian roulette, and the medium's
+//! free-flight distance (further medium stretches of a ray get slots
+//! of their own). Each slot gets its own scrambled, index-shuffled copy of the
 //! 2-D Sobol' sequence (padding, as pbrt-v4's `PaddedSobolSampler`), so the
 //! first 2^m samples of a pixel are a (0,m,2)-net in every 2-D slot.
 //!
@@ -17,9 +17,7 @@
 //! it take the following slots in order. The independent sampler ignores
 //! slots and draws its stream in call order.
 
-use std::f32::consts::TAU;
-
-use glam::Vec3;
+use glam::Vec2;
 
 use super::rng::{mix, Rng};
 use super::sobol;
@@ -54,19 +52,24 @@ pub enum Dim {
     Bsdf,
     /// Russian roulette (1-D).
     Roulette,
+    /// The free-flight distance in the `k`-th medium stretch along the ray
+    /// (1-D): stretch 0 takes the bounce's spare slot, later ones slots of
+    /// their own above every bounce's.
+    Medium(u32),
 }
 
 /// Slots the camera uses.
 const CAMERA_SLOTS: u32 = 3;
 /// Slots each bounce uses.
 const BOUNCE_SLOTS: u32 = 6;
+/// First slot of the extra medium stretches (2^16 per bounce).
+const EXTRA_SLOTS: u32 = 1 << 31;
 
 /// The numbers of one sample (one pixel, one sample index).
 #[derive(Clone, Debug)]
 pub struct Sampler {
     kind: SamplerKind,
-    /// The independent stream: every draw of the independent sampler, and
-    /// the geometry's medium distances under either.
+    /// The independent stream: every draw of the independent sampler.
     rng: Rng,
     /// Hash of (seed, pixel): the root of every slot's scramble seeds.
     pixel: u64,
@@ -77,7 +80,7 @@ pub struct Sampler {
 
 impl Sampler {
     /// The numbers of sample `index` of pixel `(x, y)` under `seed`.
-    pub fn new(kind: SamplerKind, seed: u64, x: u32, y: u32, index: u32) -> Sampler {
+    pub fn for_sample(kind: SamplerKind, seed: u64, x: u32, y: u32, index: u32) -> Sampler {
         let pixel = ((y as u64) << 32) | x as u64;
         Sampler {
             kind,
@@ -87,12 +90,6 @@ impl Sampler {
             bounce: 0,
             slot: 0,
         }
-    }
-
-    /// The independent stream, for the geometry's participating media.
-    #[inline]
-    pub fn rng(&mut self) -> &mut Rng {
-        &mut self.rng
     }
 
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
@@ -110,6 +107,10 @@ impl Sampler {
             Dim::Light => bounce,
             Dim::Bsdf => bounce + 2,
             Dim::Roulette => bounce + 4,
+            Dim::Medium(0) => bounce + 5,
+            Dim::Medium(k) => EXTRA_SLOTS
+                .wrapping_add(self.bounce.wrapping_mul(1 << 16))
+                .wrapping_add(k),
         };
     }
 
@@ -135,41 +136,19 @@ impl Sampler {
 
     /// Two numbers in [0, 1).
     #[inline]
-    pub fn next_2d(&mut self) -> (f32, f32) {
+    pub fn next_2d(&mut self) -> Vec2 {
         match self.kind {
-            SamplerKind::Independent => (self.rng.next_f32(), self.rng.next_f32()),
+            SamplerKind::Independent => {
+                let x = self.rng.next_f32();
+                Vec2::new(x, self.rng.next_f32())
+            }
             SamplerKind::Sobol => {
                 let h = self.slot_seeds();
                 let third = mix(h) as u32;
                 let (a, b) = sobol::point2(self.index, [h as u32, (h >> 32) as u32, third]);
-                (sobol::to_unit(a), sobol::to_unit(b))
+                Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
             }
         }
-    }
-
-    /// Uniform on the unit sphere (one 2-D draw).
-    #[inline]
-    pub fn unit_vector(&mut self) -> Vec3 {
-        let (a, b) = self.next_2d();
-        let z = 1.0 - 2.0 * a;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let (s, c) = (TAU * b).sin_cos();
-        Vec3::new(r * c, r * s, z)
-    }
-
-    /// Uniform in the unit ball (a 2-D then a 1-D draw).
-    #[inline]
-    pub fn in_unit_ball(&mut self) -> Vec3 {
-        self.unit_vector() * self.next_1d().cbrt()
-    }
-
-    /// Uniform in the unit disk (one 2-D draw: radius², angle).
-    #[inline]
-    pub fn in_unit_disk(&mut self) -> (f32, f32) {
-        let (a, b) = self.next_2d();
-        let r = a.sqrt();
-        let (s, c) = (TAU * b).sin_cos();
-        (r * c, r * s)
     }
 }
 
@@ -178,9 +157,9 @@ mod tests {
     use super::*;
 
     fn draws(kind: SamplerKind, seed: u64, x: u32, y: u32, i: u32) -> Vec<f32> {
-        let mut s = Sampler::new(kind, seed, x, y, i);
+        let mut s = Sampler::for_sample(kind, seed, x, y, i);
         s.begin(Dim::Camera);
-        let (a, b) = s.next_2d();
+        let Vec2 { x: a, y: b } = s.next_2d();
         s.start_bounce(3);
         s.begin(Dim::Roulette);
         vec![a, b, s.next_1d()]
@@ -204,10 +183,11 @@ mod tests {
 
     #[test]
     fn independent_draws_are_the_old_stream_in_call_order() {
-        let mut s = Sampler::new(SamplerKind::Independent, 9, 1, 2, 3);
+        let mut s = Sampler::for_sample(SamplerKind::Independent, 9, 1, 2, 3);
         let mut rng = Rng::for_sample(9, 1, 2, 3);
         s.begin(Dim::Bsdf);
-        assert_eq!(s.next_2d(), (rng.next_f32(), rng.next_f32()));
+        let x = rng.next_f32();
+        assert_eq!(s.next_2d(), Vec2::new(x, rng.next_f32()));
         s.begin(Dim::Camera);
         assert_eq!(s.next_1d(), rng.next_f32());
     }
@@ -216,11 +196,11 @@ mod tests {
     fn sobol_slots_are_fixed_by_bounce_and_dimension() {
         // Reaching a slot by `begin` or by drawing the slots before it gives
         // the same number.
-        let mut a = Sampler::new(SamplerKind::Sobol, 5, 7, 8, 9);
+        let mut a = Sampler::for_sample(SamplerKind::Sobol, 5, 7, 8, 9);
         a.start_bounce(2);
         a.begin(Dim::Roulette);
         let direct = a.next_1d();
-        let mut b = Sampler::new(SamplerKind::Sobol, 5, 7, 8, 9);
+        let mut b = Sampler::for_sample(SamplerKind::Sobol, 5, 7, 8, 9);
         b.start_bounce(2);
         b.begin(Dim::Light);
         b.next_1d();
@@ -242,13 +222,13 @@ mod tests {
         for (bounce, dim) in [(0, Dim::Camera), (0, Dim::Bsdf), (4, Dim::Light)] {
             let mut cells = [0u32; 64];
             for i in 0..(1u32 << m) {
-                let mut s = Sampler::new(SamplerKind::Sobol, 3, 10, 20, i);
+                let mut s = Sampler::for_sample(SamplerKind::Sobol, 3, 10, 20, i);
                 s.start_bounce(bounce);
                 s.begin(dim);
                 if dim == Dim::Light {
                     s.next_1d();
                 }
-                let (a, b) = s.next_2d();
+                let Vec2 { x: a, y: b } = s.next_2d();
                 cells[(a * 8.0) as usize * 8 + (b * 8.0) as usize] += 1;
             }
             assert!(cells.iter().all(|&c| c == 1), "{dim:?}: {cells:?}");
@@ -256,7 +236,8 @@ mod tests {
         // Independent numbers leave some cells empty (with near certainty).
         let mut cells = [0u32; 64];
         for i in 0..64 {
-            let (a, b) = Sampler::new(SamplerKind::Independent, 3, 10, 20, i).next_2d();
+            let Vec2 { x: a, y: b } =
+                Sampler::for_sample(SamplerKind::Independent, 3, 10, 20, i).next_2d();
             cells[(a * 8.0) as usize * 8 + (b * 8.0) as usize] += 1;
         }
         assert!(cells.contains(&0));
@@ -269,10 +250,10 @@ mod tests {
         let (mut sxy, mut n) = (0.0f64, 0.0f64);
         for px in 0..256 {
             for i in 0..16 {
-                let mut s = Sampler::new(SamplerKind::Sobol, 1, px, 0, i);
+                let mut s = Sampler::for_sample(SamplerKind::Sobol, 1, px, 0, i);
                 s.begin(Dim::Camera);
-                let (a, _) = s.next_2d();
-                let (c, _) = s.next_2d();
+                let a = s.next_2d().x;
+                let c = s.next_2d().x;
                 sxy += f64::from(a - 0.5) * f64::from(c - 0.5) * 12.0;
                 n += 1.0;
             }

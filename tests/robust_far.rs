@@ -1,0 +1,172 @@
+//! Scenes far from the origin render as they do at it (issue 13, item 1):
+//! rays leave surfaces by their hit points' error bounds, not by a fraction
+//! of |p|, and shadow rays are segments between two offset points.
+//!
+//! The metric is a z-test on 8×8 block means: each configuration is rendered
+//! with `SEEDS` seeds, a pixel's variance is estimated from the spread over
+//! the seeds, and a block mean's variance is the sum of its pixels' over the
+//! block size squared (pixels are independent). Two configurations agree
+//! when every block and channel is within `Z_MAX` standard errors of the
+//! difference and the mean z² over the blocks is below `MEAN_Z2_MAX`.
+
+use std::path::Path;
+
+use glam::Vec3;
+use rtlang::geometry::World;
+use rtlang::lang::{load_scene_with, Options};
+use rtlang::render::{render, RenderOptions};
+
+const SIZE: u32 = 32;
+const BLOCK: u32 = 8;
+const SPP: u32 = 64;
+const SEEDS: u64 = 4;
+const REFERENCE_SEED: u64 = 100;
+const SEED: u64 = 200;
+const Z_MAX: f32 = 5.0;
+/// Clean, the mean z² over 48 values is about 1 ± 0.2; 2 is 5 σ.
+const MEAN_Z2_MAX: f32 = 2.0;
+
+/// Block means of a configuration and the variances of those means.
+struct Blocks {
+    mean: Vec<Vec3>,
+    var: Vec<Vec3>,
+}
+
+fn render_seed(file: &str, defines: &[(&str, &str)], nee: bool, seed: u64) -> Vec<Vec3> {
+    let options = Options {
+        defines: defines
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+        ..Options::default()
+    };
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/scenes")
+        .join(file);
+    let scene = load_scene_with(&path, &options)
+        .unwrap_or_else(|e| panic!("{e:?}"))
+        .scene;
+    let world = World::build(&scene).expect("builds");
+    let opts = RenderOptions {
+        width: SIZE,
+        height: SIZE,
+        spp: SPP,
+        seed,
+        light_sampling: nee,
+        ..RenderOptions::from_settings(&scene.settings)
+    };
+    let out = render(&scene, &world, &opts, &|_| {}).expect("renders");
+    assert_eq!(out.stats.dropped, 0, "{file} {defines:?}: dropped samples");
+    out.pixels
+}
+
+/// Renders with seeds `first..first + SEEDS`: references and the renders
+/// compared with them use disjoint seeds, so their noise is independent.
+fn blocks(file: &str, defines: &[(&str, &str)], nee: bool, first: u64) -> Blocks {
+    let runs: Vec<Vec<Vec3>> = (0..SEEDS)
+        .map(|s| render_seed(file, defines, nee, first + s))
+        .collect();
+    let k = SEEDS as f32;
+    let n = SIZE / BLOCK;
+    let mut mean = vec![Vec3::ZERO; (n * n) as usize];
+    let mut var = vec![Vec3::ZERO; (n * n) as usize];
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let i = (y * SIZE + x) as usize;
+            let m = runs.iter().map(|r| r[i]).sum::<Vec3>() / k;
+            let v = runs.iter().map(|r| (r[i] - m) * (r[i] - m)).sum::<Vec3>() / (k - 1.0);
+            let b = ((y / BLOCK) * n + x / BLOCK) as usize;
+            let per = (BLOCK * BLOCK) as f32;
+            mean[b] += m / per;
+            // Variance of the seed-mean pixel, summed into the block mean.
+            var[b] += v / k / (per * per);
+        }
+    }
+    Blocks { mean, var }
+}
+
+/// The largest |z| and the mean z² between two configurations.
+fn z_scores(a: &Blocks, b: &Blocks) -> (f32, f32) {
+    let mut worst = 0.0f32;
+    let mut sum = 0.0f32;
+    let mut count = 0.0f32;
+    for i in 0..a.mean.len() {
+        for c in 0..3 {
+            let se = (a.var[i][c] + b.var[i][c]).sqrt();
+            let d = a.mean[i][c] - b.mean[i][c];
+            let z = if se > 0.0 {
+                d / se
+            } else if d.abs() > 1e-6 {
+                f32::INFINITY
+            } else {
+                0.0
+            };
+            worst = worst.max(z.abs());
+            sum += z * z;
+            count += 1.0;
+        }
+    }
+    (worst, sum / count)
+}
+
+fn assert_agree(what: &str, a: &Blocks, b: &Blocks) {
+    let (worst, mean_z2) = z_scores(a, b);
+    println!("{what}: max |z| {worst:.2}, mean z² {mean_z2:.2}");
+    assert!(
+        worst < Z_MAX && mean_z2 < MEAN_Z2_MAX,
+        "{what}: max |z| {worst}, mean z² {mean_z2}"
+    );
+}
+
+fn brightness(b: &Blocks) -> f32 {
+    b.mean.iter().map(|m| m.element_sum()).sum::<f32>() / (3 * b.mean.len()) as f32
+}
+
+#[test]
+fn a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height_with_both_integrators() {
+    let reference = blocks("far_floor.rt", &[("h", "0")], true, REFERENCE_SEED);
+    assert!(brightness(&reference) > 0.05, "the lit floor is not black");
+    for h in ["0", "1e2", "1e4", "1e6"] {
+        // At 1e6 the floor's f32 grid is 1/16 unit: the camera's rays and
+        // the lamp's corners are that coarse, yet the picture must hold.
+        let nee = blocks("far_floor.rt", &[("h", h)], true, SEED);
+        let path = blocks("far_floor.rt", &[("h", h)], false, SEED);
+        assert_agree(&format!("floor at {h}: nee vs path"), &nee, &path);
+        if h != "0" {
+            assert_agree(&format!("floor at {h} vs 0 (nee)"), &nee, &reference);
+        }
+    }
+}
+
+#[test]
+fn the_cornell_box_far_from_the_origin_matches_it_at_the_origin() {
+    let reference = blocks("far_cornell.rt", &[("d", "0")], true, REFERENCE_SEED);
+    assert!(brightness(&reference) > 0.05, "the box is not black");
+    for d in ["1e3", "1e4", "1e5"] {
+        let far = blocks("far_cornell.rt", &[("d", d)], true, SEED);
+        assert_agree(&format!("Cornell box moved by {d}"), &far, &reference);
+    }
+}
+
+/// A glass ball and its scene, sized by `r`, at `x` against the same at 0.
+fn ball_matches_at_origin(x: &str, r: &str) {
+    let reference = blocks("far_ball.rt", &[("x", "0"), ("r", r)], true, REFERENCE_SEED);
+    assert!(brightness(&reference) > 0.05, "the ball scene is not black");
+    let far = blocks("far_ball.rt", &[("x", x), ("r", r)], true, SEED);
+    assert_agree(&format!("glass ball r = {r} at {x}"), &far, &reference);
+}
+
+#[test]
+fn a_glass_ball_of_radius_one_at_1e5_matches_the_same_ball_at_the_origin() {
+    ball_matches_at_origin("1e5", "1");
+}
+
+/// At x = 1e3 the f32 grid is 6.1e-5, 6% of this ball's radius: hit points
+/// and their offsets (about three grid steps) move its refraction visibly
+/// less than the old push-off did (a flat disc), but measurably: max |z| 7.6,
+/// mean z² 5.5 at the time of writing. Open (see docs/testing.md).
+#[test]
+#[ignore = "known to fail: a ball of 16 f32 steps in radius refracts measurably differently"]
+fn a_glass_ball_of_radius_1e_minus_3_at_1e3_matches_the_same_ball_at_the_origin() {
+    ball_matches_at_origin("1e3", "1e-3");
+}
