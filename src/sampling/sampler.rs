@@ -214,6 +214,33 @@ mod tests {
         assert_ne!(b.next_1d(), direct);
     }
 
+    #[test]
+    fn medium_stretches_take_slots_no_other_draw_takes() {
+        let mut s = Sampler::for_sample(SamplerKind::Sobol, 1, 2, 3, 4);
+        let mut seen = std::collections::HashSet::new();
+        for bounce in 0..64 {
+            s.start_bounce(bounce);
+            let mut slots = Vec::new();
+            for dim in [Dim::Light, Dim::Bsdf, Dim::Roulette] {
+                s.begin(dim);
+                slots.push(s.slot);
+            }
+            // Light takes 3 slots (choice, point), the BSDF 2 (direction, lobe).
+            slots.extend([slots[0] + 1, slots[1] + 1]);
+            slots.extend((0..16).map(|k| {
+                s.begin(Dim::Medium(k));
+                s.slot
+            }));
+            for slot in slots {
+                assert!(seen.insert(slot), "bounce {bounce}: slot {slot} twice");
+            }
+        }
+        s.begin(Dim::Camera);
+        for slot in 0..CAMERA_SLOTS {
+            assert!(seen.insert(s.slot + slot), "camera slot {slot} reused");
+        }
+    }
+
     /// The pixel's first 2^m samples in one slot fill every cell of a
     /// 2^(m/2) × 2^(m/2) grid once (a consequence of the net property).
     #[test]
