@@ -1,7 +1,7 @@
 //! The measurement behind docs/accuracy.md (ignored: it renders for
 //! minutes). Run it with
 //! `cargo test --release --test accuracy_trade -- --ignored --nocapture`;
-//! it prints the Markdown table and writes docs/img/accuracy.png.
+//! it prints the Markdown table and writes docs/img/accuracy.svg.
 //! Its assertions are the claims the document makes.
 
 use std::path::PathBuf;
@@ -91,7 +91,7 @@ fn vase_mesh_resolutions_against_analytic() {
         width: 640,
         height: 420,
     };
-    plot.save(&root.join("docs/img/accuracy.png"))
+    plot.save(&root.join("docs/img/accuracy.svg"))
         .expect("writes the plot");
 
     // The claims of docs/accuracy.md: finer meshes are closer to the surface,

@@ -32,13 +32,23 @@ fn four_tiles_merge_bit_identically_to_one_render() {
     assert_eq!(std::fs::read(&mp).ok(), std::fs::read(&fp).ok());
 }
 
+/// The merge rule: pass K of S spp takes sample indices K·S .. (K+1)·S, so
+/// passes 0 and 1 averaged are the 16-spp render (up to the order of the
+/// floating-point sums), under either sampler.
 #[test]
 fn two_passes_average_to_the_summed_spp_render() {
-    let dir = folder("passes");
+    for sampler in ["sobol", "independent"] {
+        two_passes_average_to_the_summed_spp_render_with(sampler);
+    }
+}
+
+fn two_passes_average_to_the_summed_spp_render_with(sampler: &str) {
+    let dir = folder(&format!("passes-{sampler}"));
     let (p0, p1, direct) = (dir.join("p0.exr"), dir.join("p1.exr"), dir.join("d.exr"));
-    render(&p0, &["--spp", "8", "--pass", "0"]);
-    render(&p1, &["--spp", "8", "--pass", "1"]);
-    render(&direct, &["--spp", "16"]);
+    let with = |extra: &[&'static str]| [extra, &["--sampler", sampler]].concat();
+    render(&p0, &with(&["--spp", "8", "--pass", "0"]));
+    render(&p1, &with(&["--spp", "8", "--pass", "1"]));
+    render(&direct, &with(&["--spp", "16"]));
     let merged = dir.join("m.exr");
     let o = rtlang(&["merge", "--average", s(&p0), s(&p1), "-o", s(&merged)]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -49,7 +59,7 @@ fn two_passes_average_to_the_summed_spp_render() {
             worst = worst.max((x[c] - y[c]).abs() / y[c].abs().max(1e-3));
         }
     }
-    assert!(worst < 1e-5, "relative difference {worst}");
+    assert!(worst < 1e-5, "{sampler}: relative difference {worst}");
     // The passes are independent: one pass alone differs from the average.
     assert_ne!(a, m);
     let info = std::fs::read_to_string(dir.join("m.exr.json")).expect("sidecar");
@@ -70,6 +80,7 @@ fn pieces_that_do_not_belong_together_are_refused() {
     let t2_size = t("t2w.exr", &["--tile", "2/2", "--width", "40"]);
     let t2_frame = t("t2f.exr", &["--tile", "2/2", "--frame", "3"]);
     let t2_pass = t("t2p.exr", &["--tile", "2/2", "--pass", "1"]);
+    let t2_sampler = t("t2i.exr", &["--tile", "2/2", "--sampler", "independent"]);
     let t3 = t("t3.exr", &["--tile", "2/3"]);
     let fails = |pieces: &[&std::path::Path], extra: &[&str], needle: &str| {
         let out = dir.join("out.exr");
@@ -86,6 +97,7 @@ fn pieces_that_do_not_belong_together_are_refused() {
     fails(&[&t1, &t2, &t3], &[], "overlap");
     fails(&[&t1, &t2_seed], &[], "seed");
     fails(&[&t1, &t2_size], &[], "image size");
+    fails(&[&t1, &t2_sampler], &[], "sampler");
     fails(&[&t1, &t2_frame], &[], "scene");
     fails(&[&t1, &t2_pass], &[], "--average");
     fails(&[&t1, &t2_pass], &["--average"], "missing");

@@ -4,19 +4,27 @@
 use rtlang::geometry::World;
 use rtlang::render::scenes::{book2_final, cornell_box};
 use rtlang::render::{render, Crop, RenderOptions};
+use rtlang::sampling::SamplerKind;
 
 #[test]
 fn one_thread_and_four_threads_are_bit_identical() {
     let scene = book2_final(40, 4);
     let world = World::build(&scene).expect("builds");
-    let mut options = RenderOptions::from_settings(&scene.settings);
-    options.threads = Some(1);
-    let one = render(&scene, &world, &options, &|_| {}).expect("renders");
-    options.threads = Some(4);
-    let four = render(&scene, &world, &options, &|_| {}).expect("renders");
-    assert_eq!(one.pixels, four.pixels);
-    assert_eq!(one.stats.rays, four.stats.rays);
-    assert!(one.pixels.iter().any(|p| p.max_element() > 0.0));
+    let mut by_sampler = Vec::new();
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        let mut options = RenderOptions::from_settings(&scene.settings);
+        options.sampler = sampler;
+        options.threads = Some(1);
+        let one = render(&scene, &world, &options, &|_| {}).expect("renders");
+        options.threads = Some(4);
+        let four = render(&scene, &world, &options, &|_| {}).expect("renders");
+        assert_eq!(one.pixels, four.pixels, "{sampler:?}");
+        assert_eq!(one.stats.rays, four.stats.rays);
+        assert!(one.pixels.iter().any(|p| p.max_element() > 0.0));
+        by_sampler.push(one.pixels);
+    }
+    // The sampler option reaches the render.
+    assert_ne!(by_sampler[0], by_sampler[1]);
 }
 
 #[test]

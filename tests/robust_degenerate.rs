@@ -16,7 +16,7 @@ use rtlang::geometry::World;
 use rtlang::lang::{self, Options};
 use rtlang::picture::{compare, LinearImage};
 use rtlang::render::{render, RenderOptions};
-use rtlang::sampling::Sampler;
+use rtlang::sampling::{Sampler, SamplerKind};
 use rtlang::scene::Scene;
 use support::scratch::{folder, write};
 
@@ -222,7 +222,7 @@ fn an_emissive_mesh_with_zero_area_faces_lights_like_the_mesh_without_them() {
         (FACES.len()..=FACES.len() + 1).contains(&n),
         "{n} sampled lights"
     );
-    let mut rng = Sampler::for_sample(5, 0, 0, 0);
+    let mut rng = Sampler::for_sample(SamplerKind::Independent, 5, 0, 0, 0);
     let mut sampled = 0;
     for i in 0..20_000 {
         let p = Vec3::new(

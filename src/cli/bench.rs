@@ -1,8 +1,10 @@
 //! `rtlang bench SCENE`: throughput (samples/s and rays/s on one and two
 //! threads, and the scaling factor), or with `--convergence` an error-vs-time
-//! study of path tracing and light sampling against a high-spp reference,
-//! written as a markdown table and a log-log PNG, or with `--rays` the
-//! intersection-only ray rates of `render::raycast`. Orchestration only.
+//! study of path tracing and light sampling under the independent and the
+//! Sobol' sampler against a high-spp reference, written as a markdown table
+//! and a log-log plot, or with `--rays` the intersection-only ray rates of
+//! `render::raycast`. Orchestration only; the measurement is in
+//! `render::convergence`, the drawing in `picture::plot`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -10,9 +12,11 @@ use std::process::ExitCode;
 use clap::Args;
 
 use rtlang::geometry::World;
-use rtlang::render::convergence::{study, throughput, Method};
+use rtlang::picture::{LogLogPlot, Series};
+use rtlang::render::convergence::{study, throughput, Convergence, Method};
 use rtlang::render::raycast::{camera_rays, random_rays};
 use rtlang::render::RenderOptions;
+use rtlang::sampling::SamplerKind;
 
 /// Arguments of `rtlang bench`.
 #[derive(Args)]
@@ -30,7 +34,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 4096)]
     reference_spp: u32,
     /// The spp of the measured convergence renders, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "1,4,16,64")]
+    #[arg(long, value_delimiter = ',', default_value = "4,16,64,256")]
     spps: Vec<u32>,
     /// Where the convergence table and plot go.
     #[arg(long, default_value = "bench-out")]
@@ -124,9 +128,9 @@ fn rays(
     options: &RenderOptions,
     count: u32,
 ) -> ExitCode {
-    println!("camera rays: {}", camera_rays(scene, world, options));
+    outln!("camera rays: {}", camera_rays(scene, world, options));
     if let Some(r) = random_rays(world, world.bounds(), count, options.seed) {
-        println!("random rays: {r}");
+        outln!("random rays: {r}");
     }
     ExitCode::SUCCESS
 }
@@ -138,12 +142,14 @@ fn convergence(
     options: &RenderOptions,
 ) -> ExitCode {
     let methods = [Method::Path, Method::Nee, Method::NeeAdaptive];
+    let samplers = [SamplerKind::Independent, SamplerKind::Sobol];
     let result = match study(
         scene,
         world,
         options,
         args.reference_spp,
         &methods,
+        &samplers,
         &args.spps,
     ) {
         Ok(r) => r,
@@ -163,36 +169,65 @@ fn convergence(
         options.max_depth,
         result.markdown()
     );
-    let last_path = result
-        .measurements
-        .iter()
-        .filter(|m| m.method == Method::Path)
-        .map(|m| m.wall.as_secs_f64())
-        .fold(0.0f64, f64::max);
-    if let (Some(p), Some(n)) = (
-        result.rel_mse_at(Method::Path, last_path),
-        result.rel_mse_at(Method::Nee, last_path),
-    ) {
-        table += &format!(
-            "\nAt equal time ({last_path:.2} s): relMSE path / nee = {:.1}×\n",
-            p / n
-        );
-        if let Some(a) = result.rel_mse_at(Method::NeeAdaptive, last_path) {
-            table += &format!("relMSE path / (nee+adaptive) = {:.1}×\n", p / a);
+    let (ind, sob) = (SamplerKind::Independent, SamplerKind::Sobol);
+    for &spp in &args.spps {
+        if let (Some(i), Some(s)) = (
+            result.rel_mse_at_spp(Method::Nee, ind, spp),
+            result.rel_mse_at_spp(Method::Nee, sob, spp),
+        ) {
+            table += &format!(
+                "\nnee at {spp} spp: relMSE sobol / independent = {:.2}×",
+                s / i
+            );
         }
     }
+    let last = result
+        .series(Method::Nee, ind)
+        .map(|m| m.wall.as_secs_f64())
+        .fold(0.0f64, f64::max);
+    if let (Some(i), Some(s)) = (
+        result.rel_mse_at(Method::Nee, ind, last),
+        result.rel_mse_at(Method::Nee, sob, last),
+    ) {
+        table += &format!(
+            "\n\nAt equal time ({last:.2} s), nee: error × time sobol / independent = {:.2}×\n",
+            s / i
+        );
+    }
     let md = args.out.join(format!("{name}-convergence.md"));
-    let png = args.out.join(format!("{name}-convergence.png"));
+    let svg = args.out.join(format!("{name}-convergence.svg"));
     if let Err(e) = std::fs::write(&md, &table) {
         return fail(format!("cannot write {}: {e}", md.display()));
     }
-    if let Err(e) = result
-        .plot(&format!("{name}: relative MSE vs time"))
-        .save(&png)
-    {
+    if let Err(e) = plot(&result, &format!("{name}: relative MSE against time")).save(&svg) {
         return fail(e);
     }
     out!("{table}");
-    errln!("wrote {} and {}", md.display(), png.display());
+    errln!("wrote {} and {}", md.display(), svg.display());
     ExitCode::SUCCESS
+}
+
+/// A log-log plot of relative MSE against seconds, one line per method and
+/// sampler.
+fn plot(result: &Convergence, title: &str) -> LogLogPlot {
+    let mut series: Vec<Series> = Vec::new();
+    for m in &result.measurements {
+        let name = format!("{}, {}", m.method.name(), m.sampler.name());
+        let point = (m.wall.as_secs_f64(), m.metrics.rel_mse);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series {
+                name,
+                points: vec![point],
+            }),
+        }
+    }
+    LogLogPlot {
+        title: title.to_string(),
+        x_label: "time (s)".to_string(),
+        y_label: "relative MSE".to_string(),
+        series,
+        width: 640,
+        height: 420,
+    }
 }

@@ -63,7 +63,7 @@ fn collect(path: &Path, files: &mut Vec<PathBuf>) {
 fn stdin(check: bool) -> bool {
     let mut text = String::new();
     if let Err(e) = std::io::stdin().read_to_string(&mut text) {
-        eprintln!("error: cannot read stdin: {e}");
+        errln!("error: cannot read stdin: {e}");
         return false;
     }
     let Some(formatted) = formatted(Path::new("<stdin>"), &text) else {
@@ -71,7 +71,7 @@ fn stdin(check: bool) -> bool {
     };
     if check {
         if formatted != text {
-            println!("<stdin>");
+            outln!("<stdin>");
             return false;
         }
         return true;
@@ -85,7 +85,7 @@ fn one(path: &Path, check: bool) -> bool {
     let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
         Err(e) => {
-            eprintln!("error: cannot read `{}`: {e}", path.display());
+            errln!("error: cannot read `{}`: {e}", path.display());
             return false;
         }
     };
@@ -96,7 +96,7 @@ fn one(path: &Path, check: bool) -> bool {
         return true;
     }
     if check {
-        println!("{}", path.display());
+        outln!("{}", path.display());
         return false;
     }
     let mut temp = path.as_os_str().to_owned();
@@ -105,7 +105,7 @@ fn one(path: &Path, check: bool) -> bool {
     let written = std::fs::write(&temp, &formatted).and_then(|()| std::fs::rename(&temp, path));
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temp);
-        eprintln!("error: cannot write `{}`: {e}", path.display());
+        errln!("error: cannot write `{}`: {e}", path.display());
         return false;
     }
     true
@@ -119,7 +119,7 @@ fn formatted(path: &Path, text: &str) -> Option<String> {
         Ok(formatted) => Some(formatted),
         Err(problems) => {
             for d in problems {
-                eprint!(
+                err!(
                     "{}",
                     lang::diagnostics::render_plain(&d.to_report(&sources), 100)
                 );

@@ -7,7 +7,7 @@ pub fn run() -> ExitCode {
     match rtlang::lsp::serve_stdio() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: the language server stopped: {e}");
+            errln!("error: the language server stopped: {e}");
             ExitCode::from(1)
         }
     }

@@ -36,7 +36,7 @@ pub struct PreviewArgs {
 /// Runs the command.
 pub fn run(args: PreviewArgs) -> ExitCode {
     if !args.bind.is_loopback() {
-        eprintln!(
+        errln!(
             "warning: listening on {}: anyone who can reach this address can see the render",
             args.bind
         );
@@ -44,7 +44,7 @@ pub fn run(args: PreviewArgs) -> ExitCode {
     let stop = match interrupt::stop_flag() {
         Ok(flag) => flag,
         Err(e) => {
-            eprintln!("error: cannot catch Ctrl-C ({e}), so the preview could not stop cleanly");
+            errln!("error: cannot catch Ctrl-C ({e}), so the preview could not stop cleanly");
             return ExitCode::FAILURE;
         }
     };
@@ -60,18 +60,18 @@ pub fn run(args: PreviewArgs) -> ExitCode {
     let preview = match Preview::start(config) {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("error: {e}");
+            errln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
-    println!("rtlang preview: {}  (Ctrl-C stops)", preview.url());
+    outln!("rtlang preview: {}  (Ctrl-C stops)", preview.url());
     if args.open {
         open_browser(&preview.url());
     }
     while !stop.load(Ordering::Relaxed) {
         std::thread::sleep(Duration::from_millis(100));
     }
-    eprintln!("stopping the preview");
+    errln!("stopping the preview");
     preview.stop();
     ExitCode::SUCCESS
 }
@@ -84,6 +84,6 @@ fn open_browser(url: &str) {
         "xdg-open"
     };
     if let Err(e) = std::process::Command::new(opener).arg(url).spawn() {
-        eprintln!("warning: cannot open a browser ({opener}: {e}); open {url} yourself");
+        errln!("warning: cannot open a browser ({opener}: {e}); open {url} yourself");
     }
 }

@@ -19,6 +19,7 @@ use rtlang::render::output::{write_image, Format};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
 use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
+use rtlang::sampling::SamplerKind;
 
 use super::split::{self, Tile};
 
@@ -108,6 +109,10 @@ pub struct RenderArgs {
     /// `nee`: light sampling with MIS (default); `path`: plain path tracing.
     #[arg(long, value_enum, default_value_t = Integrator::Nee)]
     integrator: Integrator,
+    /// Where sample numbers come from: Owen-scrambled Sobol' (default) or
+    /// independent random numbers.
+    #[arg(long, value_enum, default_value_t = SamplerArg::Sobol)]
+    sampler: SamplerArg,
     /// Cap each sample's radiance at this value (removes fireflies; biased).
     #[arg(long)]
     clamp: Option<f32>,
@@ -128,6 +133,15 @@ pub enum Integrator {
     Path,
     /// Next-event estimation with multiple importance sampling.
     Nee,
+}
+
+/// The sampler `--sampler` selects.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SamplerArg {
+    /// Owen-scrambled Sobol' points, padded per dimension pair.
+    Sobol,
+    /// Independent PCG32 random numbers.
+    Independent,
 }
 
 fn parse_duration(s: &str) -> Result<Duration, String> {
@@ -406,6 +420,10 @@ fn options_for(
     options.threads = args.threads;
     options.pass = args.pass.unwrap_or(0);
     options.light_sampling = args.integrator == Integrator::Nee;
+    options.sampler = match args.sampler {
+        SamplerArg::Sobol => SamplerKind::Sobol,
+        SamplerArg::Independent => SamplerKind::Independent,
+    };
     options.clamp = args.clamp;
     options.noise = args.noise;
     if args.time.is_some() {

@@ -1,10 +1,9 @@
 //! Pictures as measurements: loading rendered or reference images into one
 //! linear RGB type, metrics between two of them, a false-colour difference
-//! image and log-log plots of error curves. Used by `rtlang compare`, the
+//! image and log-log plots of error curves (SVG, by plotters). Used by `rtlang compare`, the
 //! image tests and the benchmarks.
 
 pub mod diff;
-pub mod font;
 pub mod linear;
 pub mod metrics;
 pub mod plot;

@@ -16,7 +16,7 @@ use super::camera::CameraRays;
 use super::{render, RenderError, RenderOptions};
 use crate::geometry::revolution::surface_distance;
 use crate::geometry::{BuildError, World};
-use crate::sampling::Sampler;
+use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::object::RevolutionMode;
 use crate::scene::{Bezier, Node, Scene, Shape};
 
@@ -112,7 +112,7 @@ fn hit_errors(scene: &Scene, options: &RenderOptions) -> Result<(f64, f64, usize
     let (mut max, mut sum, mut hits) = (0.0f64, 0.0, 0usize);
     for y in 0..options.height {
         for x in 0..options.width {
-            let mut sampler = Sampler::for_sample(options.seed, x, y, 0);
+            let mut sampler = Sampler::for_sample(SamplerKind::Independent, options.seed, x, y, 0);
             let ray = camera.ray(x, y, &mut sampler);
             if let Some(h) = world.intersect(&ray, 1e-4, f32::INFINITY) {
                 let d = curves

@@ -5,7 +5,7 @@ use glam::Vec3;
 
 use crate::geometry::Ray;
 use crate::sampling::warp::uniform_disk;
-use crate::sampling::Sampler;
+use crate::sampling::{Dim, Sampler};
 use crate::scene::Camera;
 
 /// The camera with its frame precomputed for an image size.
@@ -55,6 +55,7 @@ impl CameraRays {
     /// A ray through pixel `(x, y)` (row 0 at the top), jittered within it.
     #[inline]
     pub fn ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
+        sampler.begin(Dim::Camera);
         let film = sampler.next_2d();
         let s = (x as f32 + film.x) / self.size.0;
         let t = 1.0 - (y as f32 + film.y) / self.size.1;
@@ -70,6 +71,7 @@ impl CameraRays {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::SamplerKind;
 
     #[test]
     fn centre_ray_looks_at_target_and_time_stays_in_shutter() {
@@ -80,14 +82,15 @@ mod tests {
             ..Camera::default()
         };
         let rays = CameraRays::new(&cam, 101, 101);
-        let mut rng = Sampler::for_sample(0, 50, 50, 0);
-        for _ in 0..100 {
-            let r = rays.ray(50, 50, &mut rng);
+        for i in 0..100 {
+            let mut sampler = Sampler::for_sample(SamplerKind::Sobol, 0, 50, 50, i);
+            let r = rays.ray(50, 50, &mut sampler);
             assert!(r.dir.dot(Vec3::Z) > 0.9999);
             assert!((0.25..=0.5).contains(&r.time));
         }
         // Pixel column 0 is on the image's left: +x for a camera looking +z.
-        let left = rays.ray(0, 50, &mut rng);
+        let mut sampler = Sampler::for_sample(SamplerKind::Independent, 0, 0, 50, 0);
+        let left = rays.ray(0, 50, &mut sampler);
         assert!(left.dir.x > 0.0);
     }
 }

@@ -45,7 +45,7 @@ pub enum CheckpointError {
     #[error("checkpoint `{}` belongs to another render: its {field} is {saved}, this render's is {now}", path.display())]
     #[diagnostic(
         code(rtlang::checkpoint::mismatch),
-        help("resume with the same scene, defines, frame, size, crop/tile, seed, depth and pass, or delete the checkpoint")
+        help("resume with the same scene, defines, frame, size, crop/tile, seed, sampler, depth and pass, or delete the checkpoint")
     )]
     Mismatch {
         path: PathBuf,
@@ -138,7 +138,7 @@ pub fn load(path: &Path, now: &Header) -> Result<Film, CheckpointError> {
 
 fn check_matches(path: &Path, saved: &Header, now: &Header) -> Result<(), CheckpointError> {
     let (a, b) = (&saved.piece, &now.piece);
-    let fields: [(&'static str, String, String); 8] = [
+    let fields: [(&'static str, String, String); 9] = [
         ("scene", a.scene.clone(), b.scene.clone()),
         (
             "size",
@@ -151,6 +151,7 @@ fn check_matches(path: &Path, saved: &Header, now: &Header) -> Result<(), Checkp
             format!("{:?}", b.region),
         ),
         ("seed", a.seed.to_string(), b.seed.to_string()),
+        ("sampler", a.sampler.clone(), b.sampler.clone()),
         (
             "max depth",
             a.max_depth.to_string(),

@@ -1,7 +1,7 @@
 //! Convergence and throughput measurements behind `rtlang bench`: renders a
 //! high-spp reference, then each method at increasing spp, recording wall
-//! time and the error against the reference (RMSE, relative MSE); writes
-//! the result as a markdown table and a log-log plot of error against time.
+//! time and the error against the reference (RMSE, relative MSE), under
+//! each sampler; returns the numbers and a markdown table (the CLI plots).
 
 use std::time::Duration;
 
@@ -11,8 +11,8 @@ use super::options::RenderOptions;
 use super::tiles::{render, RenderError, RenderOutput};
 use crate::geometry::World;
 use crate::picture::metrics::{compare, Metrics};
-use crate::picture::plot::{LogLogPlot, Series};
 use crate::picture::{LinearImage, PictureError};
+use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 
 /// A way of rendering whose convergence is measured.
@@ -52,6 +52,7 @@ impl Method {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measurement {
     pub method: Method,
+    pub sampler: SamplerKind,
     /// The nominal spp.
     pub spp: u32,
     /// Samples actually traced per pixel, on average.
@@ -87,37 +88,44 @@ pub fn to_image(out: &RenderOutput) -> LinearImage {
 }
 
 /// Renders the reference with `base` at `reference_spp` (light sampling,
-/// seed `base.seed + 1`, independent of the measured renders), then every
-/// method at every spp of `spps` with `base.seed`.
+/// the Sobol' sampler, seed `base.seed + 1`, so independent of the measured
+/// renders), then every method under every sampler at every spp of `spps`
+/// with `base.seed`.
 pub fn study(
     scene: &Scene,
     world: &World,
     base: &RenderOptions,
     reference_spp: u32,
     methods: &[Method],
+    samplers: &[SamplerKind],
     spps: &[u32],
 ) -> Result<Convergence, ConvergenceError> {
     let mut options = base.clone();
     options.spp = reference_spp;
     options.seed = base.seed.wrapping_add(1);
     options.light_sampling = true;
+    options.sampler = SamplerKind::Sobol;
     options.noise = None;
     let reference = render(scene, world, &options, &|_| {})?;
     let reference_image = to_image(&reference);
     let mut measurements = Vec::new();
     for &method in methods {
-        for &spp in spps {
-            let mut options = base.clone();
-            method.apply(&mut options, spp);
-            let out = render(scene, world, &options, &|_| {})?;
-            let pixels = (out.width as u64 * out.height as u64).max(1);
-            measurements.push(Measurement {
-                method,
-                spp,
-                mean_spp: out.stats.samples as f64 / pixels as f64,
-                wall: out.stats.wall,
-                metrics: compare(&to_image(&out), &reference_image)?,
-            });
+        for &sampler in samplers {
+            for &spp in spps {
+                let mut options = base.clone();
+                method.apply(&mut options, spp);
+                options.sampler = sampler;
+                let out = render(scene, world, &options, &|_| {})?;
+                let pixels = (out.width as u64 * out.height as u64).max(1);
+                measurements.push(Measurement {
+                    method,
+                    sampler,
+                    spp,
+                    mean_spp: out.stats.samples as f64 / pixels as f64,
+                    wall: out.stats.wall,
+                    metrics: compare(&to_image(&out), &reference_image)?,
+                });
+            }
         }
     }
     Ok(Convergence {
@@ -128,18 +136,20 @@ pub fn study(
 }
 
 impl Convergence {
-    /// A markdown table: method, spp, seconds, RMSE, relative MSE.
+    /// A markdown table: method, sampler, spp, seconds, RMSE, relative MSE.
     pub fn markdown(&self) -> String {
         let mut s = format!(
             "Reference: {} spp with light sampling, {:.2} s.\n\n\
-             | method | spp | mean spp | time (s) | RMSE | relMSE |\n|---|---:|---:|---:|---:|---:|\n",
+             | method | sampler | spp | mean spp | time (s) | RMSE | relMSE |\n\
+             |---|---|---:|---:|---:|---:|---:|\n",
             self.reference_spp,
             self.reference_wall.as_secs_f64()
         );
         for m in &self.measurements {
             s += &format!(
-                "| {} | {} | {:.1} | {:.3} | {:.4e} | {:.4e} |\n",
+                "| {} | {} | {} | {:.1} | {:.3} | {:.4e} | {:.4e} |\n",
                 m.method.name(),
+                m.sampler.name(),
                 m.spp,
                 m.mean_spp,
                 m.wall.as_secs_f64(),
@@ -150,13 +160,29 @@ impl Convergence {
         s
     }
 
-    /// Relative MSE of `method` at `seconds`, interpolated log-log between
-    /// its measurements (`None` outside their time range).
-    pub fn rel_mse_at(&self, method: Method, seconds: f64) -> Option<f64> {
-        let pts: Vec<(f64, f64)> = self
-            .measurements
+    /// The measurements of `method` under `sampler`, in spp order.
+    pub fn series(
+        &self,
+        method: Method,
+        sampler: SamplerKind,
+    ) -> impl Iterator<Item = &Measurement> + '_ {
+        self.measurements
             .iter()
-            .filter(|m| m.method == method)
+            .filter(move |m| m.method == method && m.sampler == sampler)
+    }
+
+    /// Relative MSE of `method` under `sampler` at nominal `spp`.
+    pub fn rel_mse_at_spp(&self, method: Method, sampler: SamplerKind, spp: u32) -> Option<f64> {
+        self.series(method, sampler)
+            .find(|m| m.spp == spp)
+            .map(|m| m.metrics.rel_mse)
+    }
+
+    /// Relative MSE of `method` under `sampler` at `seconds`, interpolated
+    /// log-log between its measurements (`None` outside their time range).
+    pub fn rel_mse_at(&self, method: Method, sampler: SamplerKind, seconds: f64) -> Option<f64> {
+        let pts: Vec<(f64, f64)> = self
+            .series(method, sampler)
             .map(|m| (m.wall.as_secs_f64(), m.metrics.rel_mse))
             .collect();
         pts.windows(2).find_map(|w| {
@@ -171,29 +197,6 @@ impl Convergence {
             };
             Some((e0.ln() + f * (e1.ln() - e0.ln())).exp())
         })
-    }
-
-    /// A log-log plot of relative MSE against seconds, one line per method.
-    pub fn plot(&self, title: &str) -> LogLogPlot {
-        let mut series: Vec<Series> = Vec::new();
-        for m in &self.measurements {
-            let point = (m.wall.as_secs_f64(), m.metrics.rel_mse);
-            match series.iter_mut().find(|s| s.name == m.method.name()) {
-                Some(s) => s.points.push(point),
-                None => series.push(Series {
-                    name: m.method.name().to_string(),
-                    points: vec![point],
-                }),
-            }
-        }
-        LogLogPlot {
-            title: title.to_string(),
-            x_label: "time (s)".to_string(),
-            y_label: "relative MSE".to_string(),
-            series,
-            width: 640,
-            height: 420,
-        }
     }
 }
 
@@ -241,6 +244,7 @@ mod tests {
             &base,
             256,
             &[Method::Path, Method::Nee],
+            &[SamplerKind::Independent],
             &[4, 16],
         )
         .expect("runs");
@@ -250,7 +254,9 @@ mod tests {
         assert!(e(3) < e(2), "nee: {} then {}", e(2), e(3));
         assert!(e(3) < e(1), "nee {} vs path {} at 16 spp", e(3), e(1));
         let table = study.markdown();
-        assert!(table.contains("| path | 16 |") && table.contains("| nee | 4 |"));
-        assert_eq!(study.plot("t").series.len(), 2);
+        assert!(
+            table.contains("| path | independent | 16 |")
+                && table.contains("| nee | independent | 4 |")
+        );
     }
 }

@@ -20,7 +20,7 @@ use super::texture::lookup;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
-use crate::sampling::Sampler;
+use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, Material, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
@@ -70,6 +70,7 @@ impl Tracer<'_> {
         let mut media = MediumSegments::default();
         for depth in 0..self.max_depth {
             rays += 1;
+            sampler.start_bounce(depth);
             let surface = self
                 .world
                 .intersect_in_media(&ray, 0.0, f32::INFINITY, &mut media);
@@ -79,6 +80,7 @@ impl Tracer<'_> {
                 radiance += throughput * background(&self.scene.settings.background, ray.dir);
                 return (radiance, rays);
             };
+            sampler.begin(Dim::Bsdf);
             let step = interact(self.scene, &hit, ray.dir, sampler);
             if step.emitted != Vec3::ZERO {
                 let weight = match previous {
@@ -141,6 +143,7 @@ impl Tracer<'_> {
             throughput *= attenuation;
             if depth >= ROULETTE_AFTER {
                 let survive = throughput.max_element().min(0.95);
+                sampler.begin(Dim::Roulette);
                 if sampler.next_1d() >= survive {
                     return (radiance, rays);
                 }
@@ -168,6 +171,7 @@ impl Tracer<'_> {
         throughput: Vec3,
         radiance: &mut Vec3,
     ) -> u32 {
+        sampler.begin(Dim::Light);
         let Some(s) = lights.sample(hit.point, sampler) else {
             return 0;
         };
@@ -204,11 +208,12 @@ fn free_flight(
         return best;
     }
     let len = ray.dir.length();
-    for s in segments {
+    for (k, s) in (0u32..).zip(segments) {
         let end = s.t1.min(t_end);
         if s.t0 >= end {
             continue;
         }
+        sampler.begin(Dim::Medium(k));
         let u = 1.0 - sampler.next_1d();
         let t = s.t0 + -u.max(f32::MIN_POSITIVE).ln() / (s.density * len);
         if t < end && best.is_none_or(|(b, _)| t < b) {

@@ -536,6 +536,7 @@ impl Walker<'_> {
 mod tests {
     use super::*;
     use crate::render::scenes::cornell_box;
+    use crate::sampling::SamplerKind;
 
     #[test]
     fn the_cornell_lamp_is_one_downward_parallelogram() {
@@ -576,7 +577,7 @@ mod tests {
         p: Vec3,
         normal_at: impl Fn(Vec3) -> Vec3,
     ) -> f64 {
-        let mut rng = Sampler::for_sample(1, 0, 0, 0);
+        let mut rng = Sampler::for_sample(SamplerKind::Independent, 1, 0, 0, 0);
         let n = 40_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
@@ -647,7 +648,7 @@ mod tests {
             two_sided: false,
         };
         let list = LightList::build(&one_sided);
-        let mut rng = Sampler::for_sample(2, 0, 0, 0);
+        let mut rng = Sampler::for_sample(SamplerKind::Independent, 2, 0, 0, 0);
         assert!(list.sample(Vec3::ZERO, &mut rng).is_none());
         assert!(list.sample(Vec3::new(0.0, 0.0, 2.0), &mut rng).is_some());
         let mut moving = scene;

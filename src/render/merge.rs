@@ -40,7 +40,7 @@ pub enum MergeError {
     #[diagnostic(
         code(rtlang::merge::mismatch),
         help(
-            "every piece must come from the same scene file, defines, frame, size, seed and depth"
+            "every piece must come from the same scene file, defines, frame, size, seed, sampler and depth"
         )
     )]
     Mismatch {
@@ -178,7 +178,7 @@ pub fn merge(pieces: &[Piece], average: bool) -> Result<Merged, MergeError> {
 
 fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
     let (a, b) = (&first.info, &p.info);
-    let fields: [(&'static str, String, String); 5] = [
+    let fields: [(&'static str, String, String); 6] = [
         ("scene", a.scene.clone(), b.scene.clone()),
         (
             "image size",
@@ -186,6 +186,7 @@ fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
             format!("{}×{}", b.width, b.height),
         ),
         ("seed", a.seed.to_string(), b.seed.to_string()),
+        ("sampler", a.sampler.clone(), b.sampler.clone()),
         (
             "max depth",
             a.max_depth.to_string(),

@@ -1,6 +1,7 @@
 //! What to render: image size, samples, depth, seed, threads and crop, with
 //! the scene's settings as defaults.
 
+use crate::sampling::SamplerKind;
 use crate::scene::Settings;
 
 /// A half-open pixel rectangle `x0..x1 × y0..y1` of the full image.
@@ -30,6 +31,8 @@ pub struct RenderOptions {
     pub spp: u32,
     pub max_depth: u32,
     pub seed: u64,
+    /// Where the sample numbers come from (Sobol' by default).
+    pub sampler: SamplerKind,
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
     pub crop: Option<Crop>,
@@ -112,6 +115,7 @@ impl RenderOptions {
             spp: s.spp,
             max_depth: s.max_depth,
             seed: s.seed,
+            sampler: SamplerKind::default(),
             threads: None,
             crop: None,
             light_sampling: true,

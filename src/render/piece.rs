@@ -22,6 +22,10 @@ pub struct PieceInfo {
     /// Pixel bounds `[x0, x1, y0, y1]` (half-open) of this piece.
     pub region: [u32; 4],
     pub seed: u64,
+    /// The sampler's name (`sobol`, `independent`); sidecars written before
+    /// there was a choice were rendered by the independent sampler.
+    #[serde(default = "independent")]
+    pub sampler: String,
     pub max_depth: u32,
     /// The animation frame the scene was evaluated at.
     pub frame: f64,
@@ -57,6 +61,7 @@ impl PieceInfo {
             height: options.height,
             region: [region.x0, region.x1, region.y0, region.y1],
             seed: options.seed,
+            sampler: options.sampler.name().to_string(),
             max_depth: options.max_depth,
             frame,
             pass: options.pass,
@@ -100,6 +105,10 @@ impl PieceInfo {
             }
         })
     }
+}
+
+fn independent() -> String {
+    crate::sampling::SamplerKind::Independent.name().to_string()
 }
 
 /// `image` with `.json` appended: `tile.exr` → `tile.exr.json`.

@@ -77,7 +77,11 @@ pub fn camera_rays(scene: &Scene, world: &World, options: &RenderOptions) -> Ray
                 (i % u64::from(spp.max(1))) as u32,
             );
             let (x, y) = ((pixel % u64::from(w)) as u32, (pixel / u64::from(w)) as u32);
-            camera.ray(x, y, &mut Sampler::for_sample(options.seed, x, y, s))
+            camera.ray(
+                x,
+                y,
+                &mut Sampler::for_sample(options.sampler, options.seed, x, y, s),
+            )
         }),
     )
 }

@@ -18,7 +18,7 @@ use super::film::Film;
 use super::integrator::Tracer;
 use super::options::{Crop, OptionsError, RenderOptions};
 use crate::geometry::World;
-use crate::sampling::Sampler;
+use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 
 /// Tile edge in pixels.
@@ -156,6 +156,7 @@ pub fn render_film(
             tracer: &tracer,
             camera: &camera,
             seed: options.seed,
+            sampler: options.sampler,
             first,
             target,
             clamp: options.clamp,
@@ -248,6 +249,7 @@ struct Job<'a> {
     tracer: &'a Tracer<'a>,
     camera: &'a CameraRays,
     seed: u64,
+    sampler: SamplerKind,
     first: u32,
     target: u32,
     /// Largest component a sample's radiance may have (biased; off by default).
@@ -297,7 +299,8 @@ impl Job<'_> {
                         }
                     }
                     traced += 1;
-                    let mut sampler = Sampler::for_sample(self.seed, x, y, self.first + s);
+                    let mut sampler =
+                        Sampler::for_sample(self.sampler, self.seed, x, y, self.first + s);
                     let ray = self.camera.ray(x, y, &mut sampler);
                     let (mut l, rays) = self.tracer.radiance(ray, &mut sampler);
                     if let Some(c) = self.clamp {

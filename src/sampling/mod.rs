@@ -4,7 +4,8 @@
 
 pub mod rng;
 pub mod sampler;
+pub mod sobol;
 pub mod warp;
 
 pub use rng::Rng;
-pub use sampler::Sampler;
+pub use sampler::{Dim, Sampler, SamplerKind};

@@ -1,35 +1,291 @@
-//! The one handle through which the integrator, camera, materials and lights
-//! draw their random numbers, one or two dimensions at a time, so that a
-//! low-discrepancy sampler can replace the stream behind it.
+//! The sample handle the camera, materials, lights and integrator draw from:
+//! `next_1d` / `next_2d` numbers in [0, 1), either independent (PCG32, the
+//! old behaviour) or Owen-scrambled Sobol' (the default).
+//!
+//! A sample depends only on (seed, pixel, sample index, dimension), so an
+//! image is the same for any thread count, crop, tile, round, pass or
+//! resume. Dimensions are allocated in fixed slots (`Dim`): the camera takes
+//! slots 0–2 (pixel 2-D, lens 2-D, time 1-D) and bounce `b` the six slots
+//! from `3 + 6b`: light choice, light point (2-D), BSDF direction (2-D), BSDF
+//! lobe (Fresnel choice or fuzz radius), Russian roulette, and the medium's
+//! free-flight distance (further medium stretches of a ray get slots
+//! of their own). Each slot gets its own scrambled, index-shuffled copy of the
+//! 2-D Sobol' sequence (padding, as pbrt-v4's `PaddedSobolSampler`), so the
+//! first 2^m samples of a pixel are a (0,m,2)-net in every 2-D slot.
+//!
+//! `begin` positions the handle at a slot of the current bounce; draws after
+//! it take the following slots in order. The independent sampler ignores
+//! slots and draws its stream in call order.
 
 use glam::Vec2;
 
-use super::Rng;
+use super::rng::{mix, Rng};
+use super::sobol;
 
-/// The sample values of one pixel sample.
+/// Which sampler renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// Owen-scrambled Sobol' (the default).
+    #[default]
+    Sobol,
+    /// Independent PCG32 numbers.
+    Independent,
+}
+
+impl SamplerKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Sobol => "sobol",
+            SamplerKind::Independent => "independent",
+        }
+    }
+}
+
+/// A slot of the dimension allocation (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dim {
+    /// Camera: pixel position (2-D), then lens (2-D) and time (1-D).
+    Camera,
+    /// Light choice (1-D), then the point on the light (2-D).
+    Light,
+    /// BSDF direction (2-D), then its lobe choice (1-D).
+    Bsdf,
+    /// Russian roulette (1-D).
+    Roulette,
+    /// The free-flight distance in the `k`-th medium stretch along the ray
+    /// (1-D): stretch 0 takes the bounce's spare slot, later ones slots of
+    /// their own above every bounce's.
+    Medium(u32),
+}
+
+/// Slots the camera uses.
+const CAMERA_SLOTS: u32 = 3;
+/// Slots each bounce uses.
+const BOUNCE_SLOTS: u32 = 6;
+/// First slot of the extra medium stretches (2^16 per bounce).
+const EXTRA_SLOTS: u32 = 1 << 31;
+
+/// The numbers of one sample (one pixel, one sample index).
 #[derive(Clone, Debug)]
 pub struct Sampler {
+    kind: SamplerKind,
+    /// The independent stream: every draw of the independent sampler.
     rng: Rng,
+    /// Hash of (seed, pixel): the root of every slot's scramble seeds.
+    pixel: u64,
+    index: u32,
+    bounce: u32,
+    slot: u32,
 }
 
 impl Sampler {
-    /// The values of sample `index` of pixel `(x, y)` under `seed`.
-    pub fn for_sample(seed: u64, x: u32, y: u32, index: u32) -> Sampler {
+    /// The numbers of sample `index` of pixel `(x, y)` under `seed`.
+    pub fn for_sample(kind: SamplerKind, seed: u64, x: u32, y: u32, index: u32) -> Sampler {
+        let pixel = ((y as u64) << 32) | x as u64;
         Sampler {
+            kind,
             rng: Rng::for_sample(seed, x, y, index),
+            pixel: mix(seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d)),
+            index,
+            bounce: 0,
+            slot: 0,
         }
     }
 
-    /// Uniform in [0, 1).
+    /// Sets the bounce that [`Sampler::begin`] allocates slots in.
     #[inline]
-    pub fn next_1d(&mut self) -> f32 {
-        self.rng.next_f32()
+    pub fn start_bounce(&mut self, depth: u32) {
+        self.bounce = depth;
     }
 
-    /// Uniform in [0, 1)².
+    /// Moves to the first slot of `dim` (in the current bounce).
+    #[inline]
+    pub fn begin(&mut self, dim: Dim) {
+        let bounce = CAMERA_SLOTS.saturating_add(self.bounce.saturating_mul(BOUNCE_SLOTS));
+        self.slot = match dim {
+            Dim::Camera => 0,
+            Dim::Light => bounce,
+            Dim::Bsdf => bounce + 2,
+            Dim::Roulette => bounce + 4,
+            Dim::Medium(0) => bounce + 5,
+            Dim::Medium(k) => EXTRA_SLOTS
+                .wrapping_add(self.bounce.wrapping_mul(1 << 16))
+                .wrapping_add(k),
+        };
+    }
+
+    /// Seeds of the current slot, and moves on to the next.
+    #[inline]
+    fn slot_seeds(&mut self) -> u64 {
+        let h = mix(self.pixel ^ u64::from(self.slot).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        self.slot = self.slot.wrapping_add(1);
+        h
+    }
+
+    /// One number in [0, 1).
+    #[inline]
+    pub fn next_1d(&mut self) -> f32 {
+        match self.kind {
+            SamplerKind::Independent => self.rng.next_f32(),
+            SamplerKind::Sobol => {
+                let h = self.slot_seeds();
+                sobol::to_unit(sobol::point1(self.index, [h as u32, (h >> 32) as u32]))
+            }
+        }
+    }
+
+    /// Two numbers in [0, 1).
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
-        let x = self.rng.next_f32();
-        Vec2::new(x, self.rng.next_f32())
+        match self.kind {
+            SamplerKind::Independent => {
+                let x = self.rng.next_f32();
+                Vec2::new(x, self.rng.next_f32())
+            }
+            SamplerKind::Sobol => {
+                let h = self.slot_seeds();
+                let third = mix(h) as u32;
+                let (a, b) = sobol::point2(self.index, [h as u32, (h >> 32) as u32, third]);
+                Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn draws(kind: SamplerKind, seed: u64, x: u32, y: u32, i: u32) -> Vec<f32> {
+        let mut s = Sampler::for_sample(kind, seed, x, y, i);
+        s.begin(Dim::Camera);
+        let Vec2 { x: a, y: b } = s.next_2d();
+        s.start_bounce(3);
+        s.begin(Dim::Roulette);
+        vec![a, b, s.next_1d()]
+    }
+
+    #[test]
+    fn samples_depend_on_every_input_and_nothing_else() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let base = draws(kind, 1, 2, 3, 4);
+            assert_eq!(base, draws(kind, 1, 2, 3, 4));
+            for other in [
+                draws(kind, 0, 2, 3, 4),
+                draws(kind, 1, 3, 3, 4),
+                draws(kind, 1, 2, 2, 4),
+                draws(kind, 1, 2, 3, 5),
+            ] {
+                assert_ne!(base, other, "{kind:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn independent_draws_are_the_old_stream_in_call_order() {
+        let mut s = Sampler::for_sample(SamplerKind::Independent, 9, 1, 2, 3);
+        let mut rng = Rng::for_sample(9, 1, 2, 3);
+        s.begin(Dim::Bsdf);
+        let x = rng.next_f32();
+        assert_eq!(s.next_2d(), Vec2::new(x, rng.next_f32()));
+        s.begin(Dim::Camera);
+        assert_eq!(s.next_1d(), rng.next_f32());
+    }
+
+    #[test]
+    fn sobol_slots_are_fixed_by_bounce_and_dimension() {
+        // Reaching a slot by `begin` or by drawing the slots before it gives
+        // the same number.
+        let mut a = Sampler::for_sample(SamplerKind::Sobol, 5, 7, 8, 9);
+        a.start_bounce(2);
+        a.begin(Dim::Roulette);
+        let direct = a.next_1d();
+        let mut b = Sampler::for_sample(SamplerKind::Sobol, 5, 7, 8, 9);
+        b.start_bounce(2);
+        b.begin(Dim::Light);
+        b.next_1d();
+        b.next_2d();
+        b.next_2d();
+        b.next_1d();
+        assert_eq!(b.next_1d(), direct);
+        // Another bounce, another number.
+        b.start_bounce(1);
+        b.begin(Dim::Roulette);
+        assert_ne!(b.next_1d(), direct);
+    }
+
+    #[test]
+    fn medium_stretches_take_slots_no_other_draw_takes() {
+        let mut s = Sampler::for_sample(SamplerKind::Sobol, 1, 2, 3, 4);
+        let mut seen = std::collections::HashSet::new();
+        for bounce in 0..64 {
+            s.start_bounce(bounce);
+            let mut slots = Vec::new();
+            for dim in [Dim::Light, Dim::Bsdf, Dim::Roulette] {
+                s.begin(dim);
+                slots.push(s.slot);
+            }
+            // Light takes 3 slots (choice, point), the BSDF 2 (direction, lobe).
+            slots.extend([slots[0] + 1, slots[1] + 1]);
+            slots.extend((0..16).map(|k| {
+                s.begin(Dim::Medium(k));
+                s.slot
+            }));
+            for slot in slots {
+                assert!(seen.insert(slot), "bounce {bounce}: slot {slot} twice");
+            }
+        }
+        s.begin(Dim::Camera);
+        for slot in 0..CAMERA_SLOTS {
+            assert!(seen.insert(s.slot + slot), "camera slot {slot} reused");
+        }
+    }
+
+    /// The pixel's first 2^m samples in one slot fill every cell of a
+    /// 2^(m/2) × 2^(m/2) grid once (a consequence of the net property).
+    #[test]
+    fn a_pixels_samples_are_stratified_in_each_slot() {
+        let m = 6;
+        for (bounce, dim) in [(0, Dim::Camera), (0, Dim::Bsdf), (4, Dim::Light)] {
+            let mut cells = [0u32; 64];
+            for i in 0..(1u32 << m) {
+                let mut s = Sampler::for_sample(SamplerKind::Sobol, 3, 10, 20, i);
+                s.start_bounce(bounce);
+                s.begin(dim);
+                if dim == Dim::Light {
+                    s.next_1d();
+                }
+                let Vec2 { x: a, y: b } = s.next_2d();
+                cells[(a * 8.0) as usize * 8 + (b * 8.0) as usize] += 1;
+            }
+            assert!(cells.iter().all(|&c| c == 1), "{dim:?}: {cells:?}");
+        }
+        // Independent numbers leave some cells empty (with near certainty).
+        let mut cells = [0u32; 64];
+        for i in 0..64 {
+            let Vec2 { x: a, y: b } =
+                Sampler::for_sample(SamplerKind::Independent, 3, 10, 20, i).next_2d();
+            cells[(a * 8.0) as usize * 8 + (b * 8.0) as usize] += 1;
+        }
+        assert!(cells.contains(&0));
+    }
+
+    #[test]
+    fn different_slots_are_not_correlated() {
+        // Over many pixels' 16 samples, the correlation of two slots'
+        // numbers is zero within noise (3 standard errors of 1/√n).
+        let (mut sxy, mut n) = (0.0f64, 0.0f64);
+        for px in 0..256 {
+            for i in 0..16 {
+                let mut s = Sampler::for_sample(SamplerKind::Sobol, 1, px, 0, i);
+                s.begin(Dim::Camera);
+                let a = s.next_2d().x;
+                let c = s.next_2d().x;
+                sxy += f64::from(a - 0.5) * f64::from(c - 0.5) * 12.0;
+                n += 1.0;
+            }
+        }
+        let r = sxy / n;
+        assert!(r.abs() < 3.0 / n.sqrt(), "correlation {r}");
     }
 }
