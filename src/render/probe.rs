@@ -28,7 +28,13 @@ pub struct PixelEstimate {
 /// traced it.
 pub fn first_ray(scene: &Scene, options: &RenderOptions, x: u32, y: u32) -> Ray {
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
-    let mut sampler = Sampler::for_sample(options.seed, x, y, options.first_sample().unwrap_or(0));
+    let mut sampler = Sampler::for_sample(
+        options.sampler,
+        options.seed,
+        x,
+        y,
+        options.first_sample().unwrap_or(0),
+    );
     camera.ray(x, y, &mut sampler)
 }
 
@@ -53,7 +59,7 @@ pub fn estimate(
     let first = options.first_sample().unwrap_or(0);
     let (mut sum, mut sq, mut kept) = (Vec3::ZERO, glam::DVec3::ZERO, 0u32);
     for s in 0..samples {
-        let mut sampler = Sampler::for_sample(options.seed, x, y, first + s);
+        let mut sampler = Sampler::for_sample(options.sampler, options.seed, x, y, first + s);
         let ray = camera.ray(x, y, &mut sampler);
         let (l, _) = tracer.radiance(ray, &mut sampler);
         if l.is_finite() {
