@@ -37,6 +37,19 @@ pub fn expr(e: &Expr) -> String {
     p.out
 }
 
+/// A function's usage line: `name(a, b: 2)`.
+pub fn signature(f: &Function) -> String {
+    let params: Vec<String> = f
+        .params
+        .iter()
+        .map(|p| match &p.default {
+            Some(d) => format!("{}: {}", p.name.name, expr(d)),
+            None => p.name.name.clone(),
+        })
+        .collect();
+    format!("{}({})", f.name.name, params.join(", "))
+}
+
 /// What the formatter interleaves with the canonical layout. Every string
 /// returned is put into the output as it is.
 pub trait Trivia {
@@ -214,7 +227,6 @@ impl Printer<'_> {
                 self.expr(&f.body, 0);
             }
         }
-        self.out.push('\n');
     }
 
     /// `(a, name: b)`: the arguments of a call.

@@ -17,7 +17,7 @@ pub fn hover(doc: &Document, at: usize) -> Option<Hover> {
         match (def.kind, &def.value) {
             (DefKind::Argument, _) => format!("`{}`: a parameter of the function", def.name),
             (DefKind::Loop, _) | (_, None) => format!("`{}`: a loop variable (a number)", def.name),
-            (DefKind::Function, Some(source)) => format!("```rt\nfn {}{source}\n```", def.name),
+            (DefKind::Function, Some(source)) => format!("```rt\nfn {source}\n```"),
             (kind, Some(source)) => {
                 let kw = if kind == DefKind::Let { "let" } else { "param" };
                 format!("```rt\n{kw} {} = {source}\n```\n{value}", def.name)

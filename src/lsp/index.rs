@@ -167,22 +167,14 @@ impl Index {
     /// A function: its name, its parameters (visible in the body only) and
     /// the uses in their defaults and the body.
     fn function(&mut self, f: &Function) {
-        let params: Vec<String> = f
-            .params
-            .iter()
-            .map(|p| match &p.default {
-                Some(d) => format!("{}: {}", p.name.name, crate::lang::pretty::expr(d)),
-                None => p.name.name.clone(),
-            })
-            .collect();
         self.defs.push(Def {
             name: f.name.name.clone(),
             kind: DefKind::Function,
             name_span: f.name.span,
             span: f.span,
             value: Some(format!(
-                "({}) = {}",
-                params.join(", "),
+                "{} = {}",
+                crate::lang::pretty::signature(f),
                 crate::lang::pretty::expr(&f.body)
             )),
         });
@@ -329,4 +321,42 @@ pub fn object_keyword(kind: &ObjectKind) -> &'static str {
 /// right after a name).
 pub fn contains(span: Span, at: usize) -> bool {
     span.start as usize <= at && at <= span.end as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lang::syntax;
+
+    fn index(text: &str) -> Index {
+        let (file, _) = syntax::parse_file(text, 0).expect("the test scene parses");
+        Index::new(&file)
+    }
+
+    #[test]
+    fn a_call_resolves_to_its_function_and_a_parameter_to_its_own_scope() {
+        let text = "let n = 1\nfn size(n, k: 2) = n * k\nsphere { radius size(n) }\n";
+        let index = index(text);
+        // The call `size(` on line 3 goes to the `fn`.
+        let call = text.rfind("size(").expect("the call");
+        let def = index.resolve(call + 1).expect("the call resolves");
+        assert_eq!(def.kind, DefKind::Function);
+        assert_eq!(
+            def.name_span.start as usize,
+            text.find("size").expect("the fn")
+        );
+        // `n` in the body is the parameter, `n` in the call is the `let`.
+        let in_body = text.find("n * k").expect("the body");
+        assert_eq!(
+            index.resolve(in_body).map(|d| d.kind),
+            Some(DefKind::Argument)
+        );
+        let in_call = text.rfind("(n)").expect("the argument") + 1;
+        assert_eq!(index.resolve(in_call).map(|d| d.kind), Some(DefKind::Let));
+        // The outline lists the function.
+        assert!(index
+            .outline
+            .iter()
+            .any(|(name, kind, _)| name == "size" && *kind == "fn"));
+    }
 }

@@ -197,7 +197,7 @@ impl Evaluator {
         let mut seen_named = false;
         let mut position = 0;
         let fname = &def.name.name;
-        let usage = usage(def);
+        let usage = crate::lang::pretty::signature(def);
         for arg in args {
             let slot = match &arg.name {
                 None if seen_named => {
@@ -388,19 +388,6 @@ impl Evaluator {
         }
         result
     }
-}
-
-/// The usage line of a function: `name(a, b: 2)`.
-fn usage(def: &Function) -> String {
-    let params: Vec<String> = def
-        .params
-        .iter()
-        .map(|p| match &p.default {
-            Some(d) => format!("{}: {}", p.name.name, crate::lang::pretty::expr(d)),
-            None => p.name.name.clone(),
-        })
-        .collect();
-    format!("{}({})", def.name.name, params.join(", "))
 }
 
 /// Every name an expression mentions (values, placed names), nested
