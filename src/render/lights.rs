@@ -43,11 +43,19 @@ pub enum LightShape {
 }
 
 impl LightShape {
-    fn area(&self) -> f32 {
+    /// The area, in f64: an f32 cross product's length overflows for
+    /// edges above about 4e9 units, and a sphere's area above a radius of
+    /// about 5e18.
+    fn area(&self) -> f64 {
         match *self {
-            LightShape::Parallelogram { edges, .. } => edges.0.cross(edges.1).length(),
-            LightShape::Triangle { v, .. } => 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length(),
-            LightShape::Sphere { radius, .. } => 2.0 * TAU * radius * radius,
+            LightShape::Parallelogram { edges, .. } => {
+                edges.0.as_dvec3().cross(edges.1.as_dvec3()).length()
+            }
+            LightShape::Triangle { v, .. } => {
+                let [a, b, c] = v.map(|p| p.as_dvec3());
+                0.5 * (b - a).cross(c - a).length()
+            }
+            LightShape::Sphere { radius, .. } => sphere_area(radius),
         }
     }
 
@@ -96,8 +104,10 @@ pub struct LightSample {
 #[derive(Clone, Debug, Default)]
 pub struct LightList {
     lights: Vec<Light>,
-    cdf: Vec<f32>,
-    total: f32,
+    /// Cumulative power (per-area weight × area), in f64 so that lights of
+    /// any size f32 can place add up without overflow.
+    cdf: Vec<f64>,
+    total: f64,
     /// Per material id: its per-area selection weight if it is sampled.
     weight: Vec<Option<f32>>,
 }
@@ -138,9 +148,9 @@ impl LightList {
             .filter(|l| l.shape.is_sampleable() && weight[l.material.0 as usize].is_some())
             .collect();
         let mut cdf = Vec::with_capacity(lights.len());
-        let mut total = 0.0f32;
+        let mut total = 0.0f64;
         for l in &lights {
-            total += weight[l.material.0 as usize].unwrap_or(0.0) * l.shape.area();
+            total += f64::from(weight[l.material.0 as usize].unwrap_or(0.0)) * l.shape.area();
             cdf.push(total);
         }
         for (i, wgt) in weight.iter_mut().enumerate() {
@@ -175,10 +185,11 @@ impl LightList {
     /// the chosen point emits nothing towards `p`.
     pub fn sample(&self, p: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
         let last = self.lights.len().checked_sub(1)?;
-        let u = sampler.next_1d() * self.total;
+        let u = f64::from(sampler.next_1d()) * self.total;
         let i = self.cdf.partition_point(|&c| c <= u).min(last);
         let light = &self.lights[i];
-        let select = self.weight[light.material.0 as usize]? * light.shape.area() / self.total;
+        let weight = f64::from(self.weight[light.material.0 as usize]?);
+        let select = (weight * light.shape.area() / self.total) as f32;
         let Vec2 { x: u1, y: u2 } = sampler.next_2d();
         // Each arm bounds the error of `x` from the light's world-space
         // data, whose own rounding (the transform applied when the list was
@@ -203,7 +214,7 @@ impl LightList {
                     x,
                     error,
                     normal,
-                    area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
+                    area_to_solid_angle(light.shape.area().recip(), p, x, normal)?,
                 )
             }
             LightShape::Triangle { v, normal } => {
@@ -214,7 +225,7 @@ impl LightList {
                     x,
                     error,
                     normal,
-                    area_to_solid_angle(1.0 / light.shape.area(), p, x, normal)?,
+                    area_to_solid_angle(light.shape.area().recip(), p, x, normal)?,
                 )
             }
         };
@@ -249,18 +260,18 @@ impl LightList {
             .filter(|l| l.material == material)
             .filter_map(|l| match l.shape {
                 LightShape::Sphere { center, radius } => {
-                    let miss = ((x - center).length() - radius).abs();
-                    (miss <= 1e-3 * radius.max(1e-3)).then_some((center, radius))
+                    let miss = ((x - center).as_dvec3().length() - f64::from(radius)).abs();
+                    (miss <= 1e-3 * f64::from(radius.max(1e-3))).then_some((center, radius))
                 }
                 _ => None,
             })
             .next();
         match sphere {
             Some((center, radius)) => {
-                let select = w * 2.0 * TAU * radius * radius / self.total;
+                let select = (f64::from(*w) * sphere_area(radius) / self.total) as f32;
                 select * sphere_pdf(center, radius, p, x)
             }
-            None => area_to_solid_angle(w / self.total, p, x, n).unwrap_or(0.0),
+            None => area_to_solid_angle(f64::from(*w) / self.total, p, x, n).unwrap_or(0.0),
         }
     }
 }
@@ -270,23 +281,34 @@ fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
-/// Converts an area density at `x` (normal `n`) to solid angle seen from `p`.
-fn area_to_solid_angle(pdf_area: f32, p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
-    let to = x - p;
-    let d2 = to.length_squared();
-    let cos = (n.dot(to) / d2.sqrt()).abs();
-    (cos > 1e-7 && d2 > 0.0).then(|| pdf_area * d2 / cos)
+/// The area of a sphere of `radius`, in f64 (4πr² overflows f32 above a
+/// radius of about 5e18).
+fn sphere_area(radius: f32) -> f64 {
+    let r = f64::from(radius);
+    2.0 * std::f64::consts::TAU * r * r
 }
 
-/// `1 − cos θmax` of the cone a sphere subtends from `p`, if `p` is outside.
+/// Converts an area density at `x` (normal `n`) to solid angle seen from
+/// `p`, in f64: a huge light's per-area density and the squared distance
+/// to it are out of f32's range even where their product is not.
+fn area_to_solid_angle(pdf_area: f64, p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
+    let to = (x - p).as_dvec3();
+    let d2 = to.length_squared();
+    let cos = (n.as_dvec3().dot(to) / d2.sqrt()).abs();
+    (cos > 1e-7 && d2 > 0.0).then(|| (pdf_area * d2 / cos) as f32)
+}
+
+/// `1 − cos θmax` of the cone a sphere subtends from `p`, if `p` is outside
+/// (in f64: the squared radius and distance of a huge sphere leave f32).
 fn cone_extent(center: Vec3, radius: f32, p: Vec3) -> Option<f32> {
-    let d2 = (center - p).length_squared();
-    let sin2 = radius * radius / d2;
+    let d2 = (center - p).as_dvec3().length_squared();
+    let r = f64::from(radius);
+    let sin2 = r * r / d2;
     if sin2 >= 1.0 {
         return None;
     }
     let cos_max = (1.0 - sin2).sqrt();
-    Some(sin2 / (1.0 + cos_max))
+    Some((sin2 / (1.0 + cos_max)) as f32)
 }
 
 /// A point of the sphere seen from `p` and its solid-angle density: uniform
@@ -297,12 +319,7 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option
         let r = (1.0 - z * z).max(0.0).sqrt();
         let (s, c) = (TAU * u2).sin_cos();
         let x = center + radius * Vec3::new(r * c, r * s, z);
-        let pdf = area_to_solid_angle(
-            1.0 / (2.0 * TAU * radius * radius),
-            p,
-            x,
-            (x - center) / radius,
-        )?;
+        let pdf = area_to_solid_angle(sphere_area(radius).recip(), p, x, (x - center) / radius)?;
         return Some((x, pdf));
     };
     let axis = (center - p).normalize();
@@ -324,24 +341,24 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option
 fn sphere_pdf(center: Vec3, radius: f32, p: Vec3, x: Vec3) -> f32 {
     match cone_extent(center, radius, p) {
         Some(extent) => 1.0 / (TAU * extent),
-        None => area_to_solid_angle(
-            1.0 / (2.0 * TAU * radius * radius),
-            p,
-            x,
-            (x - center) / radius,
-        )
-        .unwrap_or(0.0),
+        None => area_to_solid_angle(sphere_area(radius).recip(), p, x, (x - center) / radius)
+            .unwrap_or(0.0),
     }
 }
 
 /// The uniform scale of a similarity transform, if `m` is one.
 fn uniform_scale(m: Mat3A) -> Option<f32> {
-    let (a, b, c) = (m.x_axis, m.y_axis, m.z_axis);
+    // In f64: the squared lengths of a huge scale's axes leave f32.
+    let (a, b, c) = (
+        m.x_axis.as_dvec3(),
+        m.y_axis.as_dvec3(),
+        m.z_axis.as_dvec3(),
+    );
     let s = a.length();
-    let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * s.max(1e-12);
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * s.max(1e-12);
     let orthogonal =
         close(a.dot(b) / s, 0.0) && close(a.dot(c) / s, 0.0) && close(b.dot(c) / s, 0.0);
-    (orthogonal && close(b.length(), s) && close(c.length(), s) && s > 0.0).then_some(s)
+    (orthogonal && close(b.length(), s) && close(c.length(), s) && s > 0.0).then_some(s as f32)
 }
 
 impl Walker<'_> {
@@ -629,6 +646,44 @@ mod tests {
         let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |_| Vec3::Z);
         let solid = 4.0 * (1.0f64 / 3.0f64.sqrt()).atan();
         assert!((got - solid).abs() < 1e-2 * solid, "{got} vs {solid}");
+    }
+
+    /// Issue 14, item 3: a rect with edges of 2e10 is sampled like its
+    /// unit-sized copy (its area used to overflow f32, which silently dropped
+    /// it from the list), and so is a sphere of radius 2e17 (beyond about
+    /// 1e18 the squared distances of f32 vectors themselves overflow): the
+    /// same solid angles as at scale 2, from a point scaled alike.
+    #[test]
+    fn huge_lights_are_sampled_with_the_solid_angle_of_small_ones() {
+        let (scene, id) = one_light(
+            Shape::Rect {
+                plane: RectPlane::Xy,
+                a: (-0.5, 0.5),
+                b: (-0.5, 0.5),
+                k: 0.5,
+            },
+            Mat4::from_scale(Vec3::splat(2e10)),
+        );
+        let list = LightList::build(&scene);
+        assert_eq!(list.lights().len(), 1, "the huge rect is sampled");
+        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |_| Vec3::Z);
+        let solid = 4.0 * (1.0f64 / 3.0f64.sqrt()).atan();
+        assert!((got - solid).abs() < 1e-2 * solid, "{got} vs {solid}");
+
+        let c = Vec3::new(0.0, 0.0, 6e17);
+        let (scene, id) = one_light(
+            Shape::Sphere {
+                center: Vec3::new(0.0, 0.0, 3.0),
+                radius: 1.0,
+            },
+            Mat4::from_scale(Vec3::splat(2e17)),
+        );
+        let list = LightList::build(&scene);
+        assert_eq!(list.lights().len(), 1, "the huge sphere is sampled");
+        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |x| (x - c).normalize());
+        let cos_max = (1.0f64 - 4.0 / 36.0).sqrt();
+        let solid = std::f64::consts::TAU * (1.0 - cos_max);
+        assert!((got - solid).abs() < 2e-3 * solid, "{got} vs {solid}");
     }
 
     #[test]
