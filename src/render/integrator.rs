@@ -45,14 +45,23 @@ enum Previous {
     Scattered { point: Vec3, pdf: f32 },
 }
 
-/// The power heuristic weight of a strategy with density `a` against `b`.
+/// The power heuristic weight of a strategy with density `a` against `b`,
+/// a² / (a² + b²), computed from the ratio of the smaller density to the
+/// larger: squaring a density itself overflows f32 above about 1.8e19 (a
+/// light seen edge-on from a far grazing hit), and inf / inf made the
+/// weight NaN.
 #[inline]
 fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 {
-        a2 / (a2 + b2)
+    if a >= b {
+        if a > 0.0 {
+            let r = b / a;
+            1.0 / (1.0 + r * r)
+        } else {
+            0.0
+        }
     } else {
-        0.0
+        let r = a / b;
+        r * r / (1.0 + r * r)
     }
 }
 
@@ -262,5 +271,35 @@ pub fn background(bg: &Background, dir: Vec3) -> Vec3 {
             let t = 0.5 * (dir.normalize_or_zero().y + 1.0);
             bottom.lerp(top, t)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::power_heuristic;
+
+    #[test]
+    fn the_power_heuristic_holds_for_densities_whose_square_overflows() {
+        // The failing input: a light-sample density of 3e19 (its square is
+        // infinite in f32) against a cosine-weighted BSDF density.
+        let (a, b) = (3.0e19f32, 0.3f32);
+        assert!((a * a).is_infinite());
+        assert_eq!(power_heuristic(a, b), 1.0);
+        // (0.3 / 3e19)² = 1e-40, a subnormal but the right weight.
+        let small = power_heuristic(b, a);
+        assert!((0.0..1e-39).contains(&small), "{small}");
+        assert_eq!(power_heuristic(f32::INFINITY, b), 1.0);
+        assert_eq!(power_heuristic(b, f32::INFINITY), 0.0);
+    }
+
+    #[test]
+    fn the_power_heuristic_matches_its_formula_and_sums_to_one() {
+        for (a, b) in [(1.0f32, 1.0f32), (2.0, 1.0), (0.25, 3.0), (1e-20, 1e-21)] {
+            let want = (a as f64).powi(2) / ((a as f64).powi(2) + (b as f64).powi(2));
+            let got = power_heuristic(a, b);
+            assert!((got as f64 - want).abs() < 1e-6, "{a} {b}: {got} vs {want}");
+            assert!((got + power_heuristic(b, a) - 1.0).abs() < 1e-6);
+        }
+        assert_eq!(power_heuristic(0.0, 0.0), 0.0);
     }
 }
