@@ -15,6 +15,7 @@
 
 use glam::{Mat4, Vec3};
 use rtlang::geometry::World;
+use rtlang::render::lights::LightList;
 use rtlang::render::scenes::cornell_box;
 use rtlang::render::{render, RenderOptions};
 use rtlang::scene::object::RectPlane;
@@ -180,8 +181,7 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
 #[test]
 fn sphere_light_glass_mirror_and_fog_with_and_without_light_sampling_agree() {
     let scene = glass_and_sphere_light(32, 64);
-    let world = World::build(&scene).expect("builds");
-    assert_eq!(world.lights().lights().len(), 2);
+    assert_eq!(LightList::build(&scene).lights().len(), 2);
     let (worst, path, nee) = compare(&scene);
     assert!(worst < 5.0, "a block differs by {worst:.2} standard errors");
     assert!(
@@ -223,7 +223,7 @@ fn white_furnace_with_a_sampled_light_as_bright_as_the_sky() {
     s.settings.max_depth = 64;
     s.settings.background = Background::Solid(Vec3::splat(0.8));
     let world = World::build(&s).expect("builds");
-    assert_eq!(world.lights().lights().len(), 1);
+    assert_eq!(LightList::build(&s).lights().len(), 1);
     let options = RenderOptions::from_settings(&s.settings);
     assert!(options.light_sampling);
     let out = render(&s, &world, &options, &|_| {}).expect("renders");

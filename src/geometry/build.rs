@@ -18,7 +18,6 @@ use super::revolution::{tessellate, RevolutionSurface};
 use super::shapes::Plane;
 use super::sweep::swept_bounds;
 use super::{Aabb, Hit, Ray};
-use crate::render::lights::LightList;
 use crate::scene::motion::CompiledMotion;
 use crate::scene::object::RevolutionMode;
 use crate::scene::{MaterialId, Node, ProtoId, Scene, Shape};
@@ -42,7 +41,6 @@ pub enum BuildError {
 pub struct World {
     root: Instance,
     revolutions: Vec<Arc<RevolutionSurface>>,
-    lights: LightList,
 }
 
 impl World {
@@ -59,7 +57,6 @@ impl World {
         Ok(World {
             root,
             revolutions: b.revolutions,
-            lights: LightList::build(scene),
         })
     }
 
@@ -96,11 +93,6 @@ impl World {
     /// The box around every object (infinite when a plane is in it).
     pub fn bounds(&self) -> Aabb {
         self.root.bounds
-    }
-
-    /// The emitters next-event estimation samples.
-    pub fn lights(&self) -> &LightList {
-        &self.lights
     }
 
     /// Intersections that neither Newton nor its fallback could verify,

@@ -30,6 +30,9 @@ const ROULETTE_AFTER: u32 = 4;
 pub struct Tracer<'a> {
     pub scene: &'a Scene,
     pub world: &'a World,
+    /// The emitters next-event estimation samples (built by the renderer,
+    /// once per render, from the scene).
+    pub lights: &'a LightList,
     pub max_depth: u32,
     /// Whether to sample lights at diffuse and medium scatterings.
     pub light_sampling: bool,
@@ -70,7 +73,7 @@ impl Tracer<'_> {
     /// rays traced for it (shadow rays included).
     #[inline]
     pub fn radiance(&self, mut ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
-        let lights = self.world.lights();
+        let lights = self.lights;
         let nee = self.light_sampling && !lights.is_empty();
         let mut radiance = Vec3::ZERO;
         let mut throughput = Vec3::ONE;

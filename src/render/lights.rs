@@ -166,6 +166,16 @@ impl LightList {
         }
     }
 
+    /// The lights a render samples: the scene's when light sampling is on,
+    /// none otherwise (plain path tracing never asks).
+    pub fn for_render(scene: &Scene, light_sampling: bool) -> LightList {
+        if light_sampling {
+            LightList::build(scene)
+        } else {
+            LightList::default()
+        }
+    }
+
     /// The sampled lights.
     pub fn lights(&self) -> &[Light] {
         &self.lights
@@ -611,28 +621,34 @@ mod tests {
         sum / n as f64
     }
 
-    #[test]
-    fn sphere_cone_sampling_covers_the_subtended_solid_angle() {
-        let c = Vec3::new(0.0, 0.0, 6.0);
+    /// A sphere of radius 1 at z = 3, two-sided, scaled by `scale`: the
+    /// solid angle its samples integrate to from the origin, checked
+    /// against the closed form, which does not depend on the scale.
+    fn check_sphere_solid_angle(scale: f32) {
+        let c = Vec3::new(0.0, 0.0, 3.0 * scale);
         let (scene, id) = one_light(
             Shape::Sphere {
                 center: Vec3::new(0.0, 0.0, 3.0),
                 radius: 1.0,
             },
-            Mat4::from_scale(Vec3::splat(2.0)),
+            Mat4::from_scale(Vec3::splat(scale)),
         );
         let list = LightList::build(&scene);
+        assert_eq!(
+            list.lights().len(),
+            1,
+            "the sphere at scale {scale} is sampled"
+        );
         let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |x| (x - c).normalize());
-        let cos_max = (1.0f64 - 4.0 / 36.0).sqrt();
+        let cos_max = (1.0f64 - 1.0 / 9.0).sqrt();
         let solid = std::f64::consts::TAU * (1.0 - cos_max);
         assert!((got - solid).abs() < 2e-3 * solid, "{got} vs {solid}");
     }
 
-    #[test]
-    fn a_transformed_rect_integrates_its_solid_angle() {
-        // The unit square at z = 1 seen from the origin subtends 4·asin(1/3)... of
-        // a 2×2 square centred on the axis: 4·asin(1/3)·... use the closed form
-        // Ω = 4·atan(ab / (d·sqrt(a² + b² + d²))) with half sides a = b = 1.
+    /// The unit square at z = 0.5, two-sided, scaled by `scale`: its solid
+    /// angle from the origin, Ω = 4·atan(ab / (d·sqrt(a² + b² + d²))) with
+    /// half sides a = b = 1 and d = 1 at scale 2, the same at any scale.
+    fn check_rect_solid_angle(scale: f32) {
         let (scene, id) = one_light(
             Shape::Rect {
                 plane: RectPlane::Xy,
@@ -640,50 +656,37 @@ mod tests {
                 b: (-0.5, 0.5),
                 k: 0.5,
             },
-            Mat4::from_scale(Vec3::splat(2.0)),
+            Mat4::from_scale(Vec3::splat(scale)),
         );
         let list = LightList::build(&scene);
+        assert_eq!(
+            list.lights().len(),
+            1,
+            "the rect at scale {scale} is sampled"
+        );
         let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |_| Vec3::Z);
         let solid = 4.0 * (1.0f64 / 3.0f64.sqrt()).atan();
         assert!((got - solid).abs() < 1e-2 * solid, "{got} vs {solid}");
+    }
+
+    #[test]
+    fn sphere_cone_sampling_covers_the_subtended_solid_angle() {
+        check_sphere_solid_angle(2.0);
+    }
+
+    #[test]
+    fn a_transformed_rect_integrates_its_solid_angle() {
+        check_rect_solid_angle(2.0);
     }
 
     /// Issue 14, item 3: a rect with edges of 2e10 is sampled like its
     /// unit-sized copy (its area used to overflow f32, which silently dropped
     /// it from the list), and so is a sphere of radius 2e17 (beyond about
-    /// 1e18 the squared distances of f32 vectors themselves overflow): the
-    /// same solid angles as at scale 2, from a point scaled alike.
+    /// 1e18 the squared distances of f32 vectors themselves overflow).
     #[test]
     fn huge_lights_are_sampled_with_the_solid_angle_of_small_ones() {
-        let (scene, id) = one_light(
-            Shape::Rect {
-                plane: RectPlane::Xy,
-                a: (-0.5, 0.5),
-                b: (-0.5, 0.5),
-                k: 0.5,
-            },
-            Mat4::from_scale(Vec3::splat(2e10)),
-        );
-        let list = LightList::build(&scene);
-        assert_eq!(list.lights().len(), 1, "the huge rect is sampled");
-        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |_| Vec3::Z);
-        let solid = 4.0 * (1.0f64 / 3.0f64.sqrt()).atan();
-        assert!((got - solid).abs() < 1e-2 * solid, "{got} vs {solid}");
-
-        let c = Vec3::new(0.0, 0.0, 6e17);
-        let (scene, id) = one_light(
-            Shape::Sphere {
-                center: Vec3::new(0.0, 0.0, 3.0),
-                radius: 1.0,
-            },
-            Mat4::from_scale(Vec3::splat(2e17)),
-        );
-        let list = LightList::build(&scene);
-        assert_eq!(list.lights().len(), 1, "the huge sphere is sampled");
-        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |x| (x - c).normalize());
-        let cos_max = (1.0f64 - 4.0 / 36.0).sqrt();
-        let solid = std::f64::consts::TAU * (1.0 - cos_max);
-        assert!((got - solid).abs() < 2e-3 * solid, "{got} vs {solid}");
+        check_rect_solid_angle(2e10);
+        check_sphere_solid_angle(2e17);
     }
 
     #[test]

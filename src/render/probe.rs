@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::camera::CameraRays;
 use super::integrator::Tracer;
+use super::lights::LightList;
 use super::options::RenderOptions;
 use crate::geometry::{Ray, World};
 use crate::sampling::Sampler;
@@ -50,9 +51,11 @@ pub fn estimate(
     samples: u32,
 ) -> PixelEstimate {
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    let lights = LightList::for_render(scene, options.light_sampling);
     let tracer = Tracer {
         scene,
         world,
+        lights: &lights,
         max_depth: options.max_depth,
         light_sampling: options.light_sampling,
     };

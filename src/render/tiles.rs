@@ -16,6 +16,7 @@ use super::adaptive::{is_round_end, PixelEstimate};
 use super::camera::CameraRays;
 use super::film::Film;
 use super::integrator::Tracer;
+use super::lights::LightList;
 use super::options::{Crop, OptionsError, RenderOptions};
 use crate::geometry::World;
 use crate::sampling::{Sampler, SamplerKind};
@@ -122,9 +123,11 @@ pub fn render_film(
     let start = Instant::now();
     let tiles = tiles_of(region);
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    let lights = LightList::for_render(scene, options.light_sampling);
     let tracer = Tracer {
         scene,
         world,
+        lights: &lights,
         max_depth: options.max_depth,
         light_sampling: options.light_sampling,
     };
