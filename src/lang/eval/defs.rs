@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::value::Value;
 use super::{Def, DefKind, DefState, Eval, Evaluator, Fail};
-use crate::lang::ast::{Expr, ExprKind, Item, ObjectKind, Stmt};
+use crate::lang::ast::{Expr, ExprKind, Ident, Item, ObjectKind, Stmt};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::names;
 use crate::lang::source::Span;
@@ -19,6 +19,21 @@ pub const PREDEFINED: &[&str] = &["pi", "t", "frame", "fps"];
 const MAX_DEF_DEPTH: usize = 200;
 
 impl Evaluator {
+    /// Reports `name` (a `let`, `param` or `fn`) as a second definition of
+    /// a name first defined at `first`.
+    pub(super) fn defined_twice(&mut self, name: &Ident, first: Span) {
+        self.report(
+            Diagnostic::error(
+                Code::Duplicate,
+                name.span,
+                format!("`{}` is defined twice", name.name),
+            )
+            .label("second definition")
+            .related(first, "first definition")
+            .help("rename one of them; definitions are visible in the whole scene"),
+        );
+    }
+
     pub(super) fn register_defs(&mut self, items: &[Item]) {
         for item in items {
             let (kind, name, value) = match item {
@@ -42,16 +57,7 @@ impl Evaluator {
                 Some(self.funcs[i].def.name.span)
             });
             if let Some(first_span) = first {
-                self.report(
-                    Diagnostic::error(
-                        Code::Duplicate,
-                        name.span,
-                        format!("`{}` is defined twice", name.name),
-                    )
-                    .label("second definition")
-                    .related(first_span, "first definition")
-                    .help("rename one of them; definitions are visible in the whole scene"),
-                );
+                self.defined_twice(name, first_span);
                 continue;
             }
             self.def_index.insert(name.name.clone(), self.defs.len());

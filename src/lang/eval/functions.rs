@@ -69,16 +69,7 @@ impl Evaluator {
                     .map(|&i| self.funcs[i].def.name.span)
             });
         if let Some(first_span) = first {
-            self.report(
-                Diagnostic::error(
-                    Code::Duplicate,
-                    name.span,
-                    format!("`{}` is defined twice", name.name),
-                )
-                .label("second definition")
-                .related(first_span, "first definition")
-                .help("rename one of them; definitions are visible in the whole scene"),
-            );
+            self.defined_twice(name, first_span);
             return;
         }
         let mut ok = true;
