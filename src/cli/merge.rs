@@ -20,7 +20,7 @@ pub struct MergeArgs {
     /// `.json` sidecar beside it.
     #[arg(required = true)]
     pieces: Vec<PathBuf>,
-    /// The merged image (.png, .ppm or .exr).
+    /// The merged image (.png, .jpg, .ppm or .exr).
     #[arg(short, long)]
     output: PathBuf,
     /// Combine several passes, each weighted by its spp.

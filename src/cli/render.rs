@@ -40,7 +40,7 @@ pub enum Progress {
 pub struct RenderArgs {
     /// The scene file.
     scene: PathBuf,
-    /// Output image (.png, .ppm or .exr).
+    /// Output image (.png, .jpg, .ppm or .exr).
     #[arg(short, long)]
     output: PathBuf,
     /// Samples per pixel (overrides the scene).
