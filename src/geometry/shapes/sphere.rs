@@ -167,6 +167,26 @@ mod tests {
     }
 
     #[test]
+    fn early_miss_test_keeps_lines_just_inside() {
+        // Lines passing the centre at 0.999 r hit and at 1.001 r miss, for
+        // tiny spheres far along the ray and unnormalized directions.
+        for (radius, dist) in [(1e-3, 1e3), (1.0, 1e5), (1e4, 1.0), (0.5, 2.0)] {
+            let s = Sphere {
+                center: Vec3::ZERO,
+                radius,
+            };
+            for len in [1.0, 3.0, 1e-3] {
+                for (offset, hits) in [(0.999, true), (1.001, false)] {
+                    let origin = Vec3::new(-(dist + radius), offset * radius, 0.0);
+                    let ray = Ray::new(origin, Vec3::X * len, 0.0);
+                    let h = s.intersect(&ray, 0.0, f32::INFINITY);
+                    assert_eq!(h.is_some(), hits, "r {radius} at {dist}, |D| {len}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn uv_is_taken_from_the_hit_normal_when_read() {
         let s = Sphere {
             center: Vec3::new(3.0, -1.0, 2.0),
