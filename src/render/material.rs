@@ -99,7 +99,7 @@ mod tests {
             error: Vec3::ZERO,
             geo_normal: Vec3::Y,
             normal: Vec3::Y,
-            uv: glam::Vec2::ZERO,
+            uv: glam::Vec2::ZERO.into(),
             front_face,
             material: crate::scene::MaterialId(0),
         }

@@ -6,8 +6,13 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::hit::SurfaceUv;
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
+
+/// Relative margin of the early miss test, far above its rounding error
+/// (about 12 ε ≈ 1.4e-6 of `|f|²|D|²`).
+const MISS_MARGIN: f32 = 1e-5;
 
 /// A sphere by centre and radius (> 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,14 +33,23 @@ impl Sphere {
     /// `r² − |f − (f·d)d|²` (no cancellation between two large squares), the
     /// far root as `q = −b − sign(b)·√disc` and the near one as `c / q`
     /// (Ray Tracing Gems, ch. 7).
+    ///
+    /// Most tests miss, so a cheap test without root or division comes
+    /// first: the ray's line passes the centre at distance `|f × D| / |D|`,
+    /// and when `|f × D|²` exceeds `r²|D|²` by more than its rounding error
+    /// (a few ε of `|f|²|D|²`, bounded by the margin below) the line misses.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
-        let len = ray.dir.length();
-        let d = ray.dir / len;
         let f = ray.origin - self.center;
+        let dd = ray.dir.length_squared();
+        let r = self.radius;
+        if f.cross(ray.dir).length_squared() > (r * r + MISS_MARGIN * f.length_squared()) * dd {
+            return None;
+        }
+        let len = dd.sqrt();
+        let d = ray.dir / len;
         let b = f.dot(d);
         let perp = f - b * d;
-        let r = self.radius;
         let disc = (r - perp.length()) * (r + perp.length());
         if disc < 0.0 {
             return None;
@@ -71,7 +85,7 @@ impl Sphere {
             point,
             error: gamma(6) * rel.abs() + gamma(1) * point.abs(),
             normal,
-            uv: sphere_uv(normal),
+            uv: SurfaceUv::Sphere(normal),
         })
     }
 }
@@ -150,6 +164,51 @@ mod tests {
             .intersect(&inside, 0.0, f32::INFINITY)
             .expect("inside hits");
         assert!((h.t - 2.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn early_miss_test_keeps_lines_just_inside() {
+        // Lines passing the centre at 0.999 r hit and at 1.001 r miss, for
+        // tiny spheres far along the ray and unnormalized directions.
+        for (radius, dist) in [(1e-3, 1e3), (1.0, 1e5), (1e4, 1.0), (0.5, 2.0)] {
+            let s = Sphere {
+                center: Vec3::ZERO,
+                radius,
+            };
+            for len in [1.0, 3.0, 1e-3] {
+                for (offset, hits) in [(0.999, true), (1.001, false)] {
+                    let origin = Vec3::new(-(dist + radius), offset * radius, 0.0);
+                    let ray = Ray::new(origin, Vec3::X * len, 0.0);
+                    let h = s.intersect(&ray, 0.0, f32::INFINITY);
+                    assert_eq!(h.is_some(), hits, "r {radius} at {dist}, |D| {len}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn uv_is_taken_from_the_hit_normal_when_read() {
+        let s = Sphere {
+            center: Vec3::new(3.0, -1.0, 2.0),
+            radius: 0.5,
+        };
+        // From +x onto the equator: u = 1/2, v = 1/2; from above onto the
+        // north pole: v = 1; from -z: u = 3/4.
+        for (from, want) in [
+            (Vec3::X, Vec2::new(0.5, 0.5)),
+            (Vec3::NEG_Z, Vec2::new(0.75, 0.5)),
+        ] {
+            let ray = Ray::new(s.center + 4.0 * from, -from, 0.0);
+            let h = s
+                .intersect(&ray, 0.0, f32::INFINITY)
+                .expect("aimed at centre");
+            assert!((h.uv.get() - want).length() < 1e-6, "{from}: {:?}", h.uv);
+        }
+        let down = Ray::new(s.center + 4.0 * Vec3::Y, Vec3::NEG_Y, 0.0);
+        let h = s
+            .intersect(&down, 0.0, f32::INFINITY)
+            .expect("aimed at centre");
+        assert!((h.uv.get().y - 1.0).abs() < 1e-6, "{:?}", h.uv);
     }
 
     #[test]
