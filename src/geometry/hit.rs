@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3};
 
 use super::ray::{offset_origin, SurfacePoint};
+use super::shapes::sphere::sphere_uv;
 use crate::scene::MaterialId;
 
 /// Where and how a ray hit a surface.
@@ -19,7 +20,8 @@ pub struct Hit {
     /// Unit shading normal (interpolated for meshes), on the same side as
     /// `geo_normal`.
     pub normal: Vec3,
-    pub uv: Vec2,
+    /// Surface coordinates, computed when a texture reads them.
+    pub uv: SurfaceUv,
     /// Whether the ray hit the outward-facing side of the surface.
     pub front_face: bool,
     pub material: MaterialId,
@@ -40,5 +42,33 @@ impl Hit {
             error: self.error,
             normal: self.geo_normal,
         }
+    }
+}
+
+/// A hit's (u, v), kept in the form its shape found cheapest: most shapes
+/// have it at hand, but a sphere's needs `acos` and `atan2`, so a sphere hit
+/// keeps its unit normal and the angles are taken only when a texture reads
+/// uv from the one hit that is shaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SurfaceUv {
+    At(Vec2),
+    /// The sphere's unit normal in its object space (see [`sphere_uv`]).
+    Sphere(Vec3),
+}
+
+impl SurfaceUv {
+    #[inline]
+    pub fn get(self) -> Vec2 {
+        match self {
+            SurfaceUv::At(uv) => uv,
+            SurfaceUv::Sphere(n) => sphere_uv(n),
+        }
+    }
+}
+
+impl From<Vec2> for SurfaceUv {
+    #[inline]
+    fn from(uv: Vec2) -> SurfaceUv {
+        SurfaceUv::At(uv)
     }
 }

@@ -113,7 +113,7 @@ impl MeshGeometry {
                 point: w.x * a + w.y * b + w.z * c,
                 error: h.error([a, b, c]),
                 normal,
-                uv,
+                uv: uv.into(),
             },
             shading_normal,
             material,

@@ -20,5 +20,5 @@ pub mod sweep;
 pub use aabb::Aabb;
 pub use build::{BuildError, World};
 pub use bvh::Bvh;
-pub use hit::Hit;
+pub use hit::{Hit, SurfaceUv};
 pub use ray::Ray;

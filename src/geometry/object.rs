@@ -121,7 +121,7 @@ impl Geometry {
                     point: s.point,
                     error: s.error,
                     normal: s.normal,
-                    uv: s.uv,
+                    uv: s.uv.into(),
                 };
                 Some(facing(h, h.normal, ray.dir, *material))
             }

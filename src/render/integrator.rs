@@ -232,7 +232,7 @@ fn medium_point(ray: &Ray, t: f32, material: MaterialId) -> Hit {
         error: Vec3::ZERO,
         geo_normal: Vec3::X,
         normal: Vec3::X,
-        uv: glam::Vec2::ZERO,
+        uv: glam::Vec2::ZERO.into(),
         front_face: true,
         material,
     }

@@ -3,6 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
+use crate::geometry::SurfaceUv;
 use crate::scene::texture::CheckerSpace;
 use crate::scene::{ImageData, Scene, Texture};
 
@@ -10,7 +11,8 @@ use crate::scene::{ImageData, Scene, Texture};
 const MAX_NESTING: u32 = 16;
 
 /// The colour of texture `id` of `scene` at surface point `p` with `uv`.
-pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: Vec2, p: Vec3) -> Vec3 {
+/// `uv` is computed only if a texture on the way reads it.
+pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -> Vec3 {
     let mut id = id;
     for _ in 0..MAX_NESTING {
         match scene.texture(id) {
@@ -27,13 +29,13 @@ pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: Vec2, p: Vec3) -> 
                         s.x.sin() * s.y.sin() * s.z.sin() >= 0.0
                     }
                     CheckerSpace::Uv => {
-                        let s = *scale * uv;
+                        let s = *scale * uv.get();
                         (s.x.floor() + s.y.floor()).rem_euclid(2.0) == 0.0
                     }
                 };
                 id = if is_even { *even } else { *odd };
             }
-            Texture::Image(img) => return bilinear(img, uv),
+            Texture::Image(img) => return bilinear(img, uv.get()),
             Texture::Noise { scale, color } => {
                 let marble = 0.5 * (1.0 + (scale * p.z + 10.0 * turbulence(*scale * p)).sin());
                 return *color * marble;
@@ -124,9 +126,12 @@ mod tests {
             scale: 10.0,
             space: CheckerSpace::Solid,
         });
-        assert_eq!(lookup(&scene, c, Vec2::ZERO, Vec3::splat(0.1)), Vec3::ONE);
         assert_eq!(
-            lookup(&scene, c, Vec2::ZERO, Vec3::new(-0.1, 0.1, 0.1)),
+            lookup(&scene, c, Vec2::ZERO.into(), Vec3::splat(0.1)),
+            Vec3::ONE
+        );
+        assert_eq!(
+            lookup(&scene, c, Vec2::ZERO.into(), Vec3::new(-0.1, 0.1, 0.1)),
             Vec3::ZERO
         );
     }

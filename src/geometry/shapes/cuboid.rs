@@ -68,7 +68,8 @@ impl Cuboid {
             uv: Vec2::new(
                 (point[i] - self.min[i]) / ext[i],
                 (point[j] - self.min[j]) / ext[j],
-            ),
+            )
+            .into(),
         })
     }
 }

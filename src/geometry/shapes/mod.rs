@@ -8,7 +8,9 @@ pub mod rect;
 pub mod sphere;
 pub mod triangle;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
+
+use super::hit::SurfaceUv;
 
 pub use cuboid::Cuboid;
 pub use plane::Plane;
@@ -25,5 +27,5 @@ pub struct ShapeHit {
     pub error: Vec3,
     /// Unit outward normal.
     pub normal: Vec3,
-    pub uv: Vec2,
+    pub uv: SurfaceUv,
 }

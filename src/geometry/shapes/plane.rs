@@ -36,7 +36,7 @@ impl Plane {
             point,
             error,
             normal: self.normal,
-            uv: Vec2::new(rel.dot(u_axis), rel.dot(v_axis)),
+            uv: Vec2::new(rel.dot(u_axis), rel.dot(v_axis)).into(),
         })
     }
 }

@@ -81,7 +81,8 @@ impl Rect {
             uv: Vec2::new(
                 (x - self.a.0) / (self.a.1 - self.a.0).max(f32::MIN_POSITIVE),
                 (y - self.b.0) / (self.b.1 - self.b.0).max(f32::MIN_POSITIVE),
-            ),
+            )
+            .into(),
         })
     }
 }

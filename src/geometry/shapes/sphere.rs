@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::ShapeHit;
+use crate::geometry::hit::SurfaceUv;
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
@@ -71,7 +72,7 @@ impl Sphere {
             point,
             error: gamma(6) * rel.abs() + gamma(1) * point.abs(),
             normal,
-            uv: sphere_uv(normal),
+            uv: SurfaceUv::Sphere(normal),
         })
     }
 }
@@ -150,6 +151,31 @@ mod tests {
             .intersect(&inside, 0.0, f32::INFINITY)
             .expect("inside hits");
         assert!((h.t - 2.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn uv_is_taken_from_the_hit_normal_when_read() {
+        let s = Sphere {
+            center: Vec3::new(3.0, -1.0, 2.0),
+            radius: 0.5,
+        };
+        // From +x onto the equator: u = 1/2, v = 1/2; from above onto the
+        // north pole: v = 1; from -z: u = 3/4.
+        for (from, want) in [
+            (Vec3::X, Vec2::new(0.5, 0.5)),
+            (Vec3::NEG_Z, Vec2::new(0.75, 0.5)),
+        ] {
+            let ray = Ray::new(s.center + 4.0 * from, -from, 0.0);
+            let h = s
+                .intersect(&ray, 0.0, f32::INFINITY)
+                .expect("aimed at centre");
+            assert!((h.uv.get() - want).length() < 1e-6, "{from}: {:?}", h.uv);
+        }
+        let down = Ray::new(s.center + 4.0 * Vec3::Y, Vec3::NEG_Y, 0.0);
+        let h = s
+            .intersect(&down, 0.0, f32::INFINITY)
+            .expect("aimed at centre");
+        assert!((h.uv.get().y - 1.0).abs() < 1e-6, "{:?}", h.uv);
     }
 
     #[test]

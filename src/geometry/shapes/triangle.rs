@@ -124,7 +124,7 @@ impl Triangle {
             point: h.bary.x * a + h.bary.y * b + h.bary.z * c,
             error: h.error([a, b, c]),
             normal: (b - a).cross(c - a).normalize_or(Vec3::Y),
-            uv: Vec2::new(h.bary.y, h.bary.z),
+            uv: Vec2::new(h.bary.y, h.bary.z).into(),
         })
     }
 }
