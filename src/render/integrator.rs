@@ -1,27 +1,27 @@
 //! The path tracing integrator: iterative unidirectional path tracing with
 //! Russian roulette after a few bounces and a maximum depth, and optionally
 //! next-event estimation (a shadow ray to a sampled light point at every
-//! diffuse or medium scattering) combined with the scattered ray's own hits
-//! of lights by multiple importance sampling (power heuristic).
+//! non-specular scattering: diffuse, fuzzy metal, medium) combined with the
+//! scattered ray's own hits of lights by multiple importance sampling (power
+//! heuristic). Each hit's material becomes one [`super::bsdf::Bsdf`], which
+//! the integrator samples, evaluates and asks densities of.
 //!
-//! Mirror, fuzzy metal and glass are not light-sampled: the emission their
-//! scattered rays find counts in full. Media: geometry reports the stretches
+//! Mirror and glass are not light-sampled: the emission their scattered rays
+//! find counts in full. Media: geometry reports the stretches
 //! of a ray inside them and the integrator samples the free-flight distance
 //! along each (exponential in the density); shadow rays through media carry
 //! the exact transmittance of a homogeneous medium.
 
-use std::f32::consts::{FRAC_1_PI, PI};
-
 use glam::Vec3;
 
+use super::bsdf::BsdfSample;
 use super::lights::LightList;
-use super::material::interact;
-use super::texture::lookup;
+use super::material;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
 use crate::sampling::{Dim, Sampler};
-use crate::scene::{Background, Material, MaterialId, Scene};
+use crate::scene::{Background, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
 const ROULETTE_AFTER: u32 = 4;
@@ -93,8 +93,11 @@ impl Tracer<'_> {
                 return (radiance, rays);
             };
             sampler.begin(Dim::Bsdf);
-            let step = interact(self.scene, &hit, ray.dir, sampler);
-            if step.emitted != Vec3::ZERO {
+            let bsdf = material::bsdf(self.scene, &hit);
+            let wo = -ray.dir;
+            let sample = bsdf.sample_from(wo, sampler);
+            let emitted = bsdf.emitted();
+            if emitted != Vec3::ZERO {
                 let weight = match previous {
                     Previous::Scattered { point, pdf }
                         if nee && lights.is_sampled(hit.material) =>
@@ -106,51 +109,36 @@ impl Tracer<'_> {
                     }
                     _ => 1.0,
                 };
-                radiance += throughput * step.emitted * weight;
+                radiance += throughput * emitted * weight;
             }
-            let Some((attenuation, dir)) = step.bounce else {
+            if nee && bsdf.samples_lights() {
+                rays += self.direct(
+                    lights,
+                    &hit,
+                    ray.time,
+                    sampler,
+                    &mut media,
+                    |wi| bsdf.eval_pdf(wo, wi),
+                    throughput,
+                    &mut radiance,
+                );
+            }
+            let Some(BsdfSample {
+                wi: dir,
+                weight: attenuation,
+                pdf,
+                specular,
+            }) = sample
+            else {
                 return (radiance, rays);
             };
-            previous = match self.scene.material(hit.material) {
-                Material::Lambertian { albedo } if nee => {
-                    let f = lookup(self.scene, *albedo, hit.uv, hit.point) * FRAC_1_PI;
-                    rays += self.direct(
-                        lights,
-                        &hit,
-                        ray.time,
-                        sampler,
-                        &mut media,
-                        |wi| {
-                            let cos = hit.normal.dot(wi);
-                            (cos > 0.0 && hit.geo_normal.dot(wi) > 0.0)
-                                .then_some((f * cos, cos * FRAC_1_PI))
-                        },
-                        throughput,
-                        &mut radiance,
-                    );
-                    Previous::Scattered {
-                        point: hit.point,
-                        pdf: hit.normal.dot(dir).max(0.0) * FRAC_1_PI,
-                    }
+            previous = if specular {
+                Previous::Specular
+            } else {
+                Previous::Scattered {
+                    point: hit.point,
+                    pdf,
                 }
-                Material::Isotropic { albedo } if nee => {
-                    let f = lookup(self.scene, *albedo, hit.uv, hit.point) / (4.0 * PI);
-                    rays += self.direct(
-                        lights,
-                        &hit,
-                        ray.time,
-                        sampler,
-                        &mut media,
-                        |_| Some((f, 1.0 / (4.0 * PI))),
-                        throughput,
-                        &mut radiance,
-                    );
-                    Previous::Scattered {
-                        point: hit.point,
-                        pdf: 1.0 / (4.0 * PI),
-                    }
-                }
-                _ => Previous::Specular,
             };
             throughput *= attenuation;
             if depth >= ROULETTE_AFTER {

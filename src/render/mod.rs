@@ -1,12 +1,14 @@
-//! From geometry to pixels: sampling, camera rays, materials, the path
+//! From geometry to pixels: sampling, camera rays, materials and BSDFs, the path
 //! tracing integrator, the film, tiles over threads, and image output.
 
 pub mod accuracy;
 pub mod adaptive;
+pub mod bsdf;
 pub mod camera;
 pub mod checkpoint;
 pub mod convergence;
 pub mod film;
+pub mod fuzz;
 pub mod integrator;
 pub mod interrupt;
 pub mod lights;
