@@ -11,10 +11,7 @@ use rtlang::lang::{self, diagnostics::render_plain, Options};
 
 /// Files whose first error is known NOT to be at the real cause yet, with
 /// why. The test fails if one of them starts passing, so the list stays true.
-const KNOWN_POOR: &[(&str, &str)] = &[(
-    "rotate_no_angle.rt",
-    "`rotate y material m` reads `material` as the angle, so the error is at `}`",
-)];
+const KNOWN_POOR: &[(&str, &str)] = &[];
 
 #[test]
 fn every_wrong_scene_is_reported_at_its_cause() {

@@ -1,8 +1,10 @@
 //! The one declaration of the properties each block takes: name, value and
-//! doc. The evaluator's unknown-property check and its near-miss suggestions
-//! read these tables, and its readers can only find a property declared
-//! here; `tests/lang_properties.rs` sets every entry in a scene and checks
-//! that the scene changes, so a declared property nobody reads fails a test.
+//! doc. Each `block!` makes both the block's table (read by the evaluator's
+//! unknown-property check, its near-miss suggestions, the docs test) and a
+//! module of typed keys, the only way a reader names a property: reading an
+//! undeclared one does not compile. `tests/lang_properties.rs` sets every
+//! entry in a scene and checks that the scene changes, so a declared property
+//! nobody reads fails a test.
 
 /// One property of a block.
 #[derive(Debug)]
@@ -37,192 +39,99 @@ const fn prop(
     }
 }
 
-const MATERIAL: Prop = prop(
+/// Declares one block's properties once: a table `$table` for the unknown-
+/// property check, suggestions and docs, and a module `$module` of one key
+/// per property, the only way a reader (`Evaluator::prop*`) names one.
+macro_rules! block {
+    ($table:ident = $kw:literal in $module:ident { $($key:ident = $value:expr;)* }) => {
+        pub const $table: Props = Props {
+            block: $kw,
+            props: &[$($module::$key),*],
+        };
+
+        #[doc = concat!("The keys of the properties of `", $kw, "`.")]
+        pub mod $module {
+            #[allow(unused_imports)]
+            use super::{prop, Prop};
+            $(pub const $key: Prop = $value;)*
+        }
+    };
+}
+
+/// `material`, which every shape takes.
+pub const MATERIAL: Prop = prop(
     "material",
     "material",
     "what the surface is made of",
     "lambertian(rgb(0.1, 0.2, 0.3))",
 );
 
-pub const SPHERE: Props = Props {
-    block: "sphere",
-    props: &[
-        prop(
-            "center",
-            "vector",
-            "the centre (default the origin)",
-            "(1, 2, 3)",
-        ),
-        prop("radius", "number > 0", "the radius (default 1)", "2.5"),
-        MATERIAL,
-    ],
-};
+block! { SPHERE = "sphere" in sphere {
+    CENTER = prop("center", "vector", "the centre (default the origin)", "(1, 2, 3)");
+    RADIUS = prop("radius", "number > 0", "the radius (default 1)", "2.5");
+    MATERIAL = super::MATERIAL;
+}}
 
-pub const PLANE: Props = Props {
-    block: "plane",
-    props: &[
-        prop(
-            "point",
-            "vector",
-            "a point on the plane (default the origin)",
-            "(0, 2, 0)",
-        ),
-        prop(
-            "offset",
-            "number",
-            "the distance from the origin along the normal",
-            "3",
-        ),
-        prop(
-            "normal",
-            "non-zero vector",
-            "the facing direction (default +y)",
-            "(1, 0, 0)",
-        ),
-        MATERIAL,
-    ],
-};
+block! { PLANE = "plane" in plane {
+    POINT = prop("point", "vector", "a point on the plane (default the origin)", "(0, 2, 0)");
+    OFFSET = prop("offset", "number", "the distance from the origin along the normal", "3");
+    NORMAL = prop("normal", "non-zero vector", "the facing direction (default +y)", "(1, 0, 0)");
+    MATERIAL = super::MATERIAL;
+}}
 
-pub const RECT: Props = Props {
-    block: "rect",
-    props: &[
-        prop(
-            "from",
-            "2-vector",
-            "one corner in the plane's two axes",
-            "(-3, -3)",
-        ),
-        prop("to", "2-vector", "the opposite corner", "(4, 5)"),
-        prop("at", "number", "the fixed coordinate", "2"),
-        MATERIAL,
-    ],
-};
+block! { RECT = "rect" in rect {
+    FROM = prop("from", "2-vector", "one corner in the plane's two axes", "(-3, -3)");
+    TO = prop("to", "2-vector", "the opposite corner", "(4, 5)");
+    AT = prop("at", "number", "the fixed coordinate", "2");
+    MATERIAL = super::MATERIAL;
+}}
 
-pub const BOX: Props = Props {
-    block: "box",
-    props: &[
-        prop("min", "vector", "the lowest corner", "(-2, -2, -2)"),
-        prop(
-            "max",
-            "vector",
-            "the highest corner, above `min` in every axis",
-            "(3, 3, 3)",
-        ),
-        MATERIAL,
-    ],
-};
+block! { BOX = "box" in cuboid {
+    MIN = prop("min", "vector", "the lowest corner", "(-2, -2, -2)");
+    MAX = prop("max", "vector", "the highest corner, above `min` in every axis", "(3, 3, 3)");
+    MATERIAL = super::MATERIAL;
+}}
 
-pub const TRIANGLE: Props = Props {
-    block: "triangle",
-    props: &[
-        prop("a", "vector", "the first corner", "(-2, 0, 0)"),
-        prop("b", "vector", "the second corner", "(2, 0, 1)"),
-        prop(
-            "c",
-            "vector",
-            "the third corner, not on the line of the others",
-            "(0, 3, 0)",
-        ),
-        MATERIAL,
-    ],
-};
+block! { TRIANGLE = "triangle" in triangle {
+    A = prop("a", "vector", "the first corner", "(-2, 0, 0)");
+    B = prop("b", "vector", "the second corner", "(2, 0, 1)");
+    C = prop("c", "vector", "the third corner, not on the line of the others", "(0, 3, 0)");
+    MATERIAL = super::MATERIAL;
+}}
 
-pub const MESH: Props = Props {
-    block: "mesh",
-    props: &[MATERIAL],
-};
+block! { MESH = "mesh" in mesh {
+    MATERIAL = super::MATERIAL;
+}}
 
-pub const REVOLVE: Props = Props {
-    block: "revolve",
-    props: &[
-        MATERIAL,
-        prop(
-            "mode",
-            "`mesh` or `analytic`",
-            "how the surface is made (default analytic)",
-            "mesh",
-        ),
-        prop(
-            "resolution",
-            "whole number",
-            "segments around the axis for `mesh` (default 50)",
-            "12",
-        ),
-        prop(
-            "tolerance",
-            "number > 0",
-            "relative accuracy of the analytic surface (default 1e-4)",
-            "0.01",
-        ),
-    ],
-};
+block! { REVOLVE = "revolve" in revolve {
+    MATERIAL = super::MATERIAL;
+    MODE = prop("mode", "`mesh` or `analytic`", "how the surface is made (default analytic)", "mesh");
+    RESOLUTION = prop("resolution", "whole number", "segments around the axis for `mesh` (default 50)", "12");
+    TOLERANCE = prop("tolerance", "number > 0", "relative accuracy of the analytic surface (default 1e-4)", "0.01");
+}}
 
-pub const MEDIUM: Props = Props {
-    block: "medium",
-    props: &[
-        prop(
-            "boundary",
-            "object",
-            "the closed surface that holds the fog",
-            "sphere { radius 3 }",
-        ),
-        prop("density", "number > 0", "how thick the fog is", "0.5"),
-        prop(
-            "color",
-            "colour",
-            "the colour the fog scatters",
-            "rgb(0.2, 0.4, 0.6)",
-        ),
-    ],
-};
+block! { MEDIUM = "medium" in medium {
+    BOUNDARY = prop("boundary", "object", "the closed surface that holds the fog", "sphere { radius 3 }");
+    DENSITY = prop("density", "number > 0", "how thick the fog is", "0.5");
+    COLOR = prop("color", "colour", "the colour the fog scatters", "rgb(0.2, 0.4, 0.6)");
+}}
 
-pub const RENDER: Props = Props {
-    block: "render",
-    props: &[
-        prop("samples", "whole number", "samples per pixel", "7"),
-        prop("depth", "whole number", "the most bounces of a path", "3"),
-        prop(
-            "seed",
-            "whole number",
-            "the seed of the random numbers",
-            "42",
-        ),
-        prop(
-            "background",
-            "colour or texture",
-            "what rays that hit nothing see",
-            "rgb(0.3, 0.2, 0.1)",
-        ),
-        prop(
-            "fps",
-            "number > 0",
-            "frames per second of an animation",
-            "12",
-        ),
-    ],
-};
+block! { RENDER = "render" in render {
+    SAMPLES = prop("samples", "whole number", "samples per pixel", "7");
+    DEPTH = prop("depth", "whole number", "the most bounces of a path", "3");
+    SEED = prop("seed", "whole number", "the seed of the random numbers", "42");
+    BACKGROUND = prop("background", "colour or texture", "what rays that hit nothing see", "rgb(0.3, 0.2, 0.1)");
+    FPS = prop("fps", "number > 0", "frames per second of an animation", "12");
+}}
 
-pub const CAMERA: Props = Props {
-    block: "camera",
-    props: &[
-        prop("from", "vector", "where the camera is", "(1, 2, 9)"),
-        prop("at", "vector", "the point it looks at", "(0, 1, 0)"),
-        prop(
-            "up",
-            "vector",
-            "the up direction of the picture",
-            "(1, 1, 0)",
-        ),
-        prop("fov", "degrees", "the vertical field of view", "35"),
-        prop(
-            "aperture",
-            "number ≥ 0",
-            "the lens diameter (0 is a pinhole)",
-            "0.2",
-        ),
-        prop("focus", "number > 0", "the distance in focus", "4"),
-    ],
-};
+block! { CAMERA = "camera" in camera {
+    FROM = prop("from", "vector", "where the camera is", "(1, 2, 9)");
+    AT = prop("at", "vector", "the point it looks at", "(0, 1, 0)");
+    UP = prop("up", "vector", "the up direction of the picture", "(1, 1, 0)");
+    FOV = prop("fov", "degrees", "the vertical field of view", "35");
+    APERTURE = prop("aperture", "number ≥ 0", "the lens diameter (0 is a pinhole)", "0.2");
+    FOCUS = prop("focus", "number > 0", "the distance in focus", "4");
+}}
 
 /// Every block with properties.
 pub const TABLE: &[&Props] = &[

@@ -344,6 +344,9 @@ const OBJECTS: &[&str] = &[
 /// an unknown word before `{`, `=` or `:` after a property name, commas
 /// and semicolons between statements.
 fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    if let Some(d) = rotate_without_angle(text, file, at) {
+        return Some(d);
+    }
     let bytes = text.as_bytes();
     let word_at = |i: usize| {
         let end = (i..bytes.len())
@@ -440,6 +443,45 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
         ),
         _ => None,
     }
+}
+
+/// `rotate y material m`: an axis without its angle, so the next property's
+/// name was read as the angle and the error came later on the line. Blames
+/// the property name, where the angle is missing.
+fn rotate_without_angle(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    let line_start = text[..at].rfind('\n').map_or(0, |p| p + 1);
+    let line = &text[line_start..at];
+    let kw = line.rfind("rotate ")?;
+    let starts_word = line[..kw]
+        .chars()
+        .next_back()
+        .is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_'));
+    let after_kw = kw + "rotate ".len();
+    let rest = line[after_kw..].trim_start();
+    let axis = rest.split_whitespace().next()?;
+    if !starts_word || !matches!(axis, "x" | "y" | "z") {
+        return None;
+    }
+    let after_axis = &rest[1..];
+    let word = after_axis.split_whitespace().next()?;
+    let is_property = crate::lang::properties::TABLE
+        .iter()
+        .any(|b| b.props.iter().any(|p| p.name == word));
+    if !is_property {
+        return None;
+    }
+    let start = line_start + (line.len() - after_axis.len()) + after_axis.find(word)?;
+    Some(
+        Diagnostic::error(
+            Code::Syntax,
+            Span::new(file, start, start + word.len()),
+            format!("`rotate {axis}` has no angle"),
+        )
+        .label(format!("`{word}` read as the angle"))
+        .help(format!(
+            "give the angle in degrees after the axis, as in `rotate {axis} 45`"
+        )),
+    )
 }
 
 fn join_or(names: &[String]) -> String {

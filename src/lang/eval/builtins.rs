@@ -1,6 +1,6 @@
 //! Calls of built-in functions: checked against the signatures of
-//! [`crate::lang::builtins::TABLE`] before the call, then numeric
-//! functions, colours, textures and materials.
+//! [`crate::lang::builtins::TABLE`], then evaluated through its entries; the
+//! evaluators of colours, textures and materials the table points at.
 
 use crate::lang::codes::Code;
 use std::rc::Rc;
@@ -11,6 +11,7 @@ use super::math;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Arg, Ident};
+use crate::lang::builtins::{Body, Builtin};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::names;
 use crate::lang::source::Span;
@@ -23,7 +24,7 @@ pub fn is_function(name: &str) -> bool {
 }
 
 /// Evaluated arguments of one call.
-pub(super) struct Args {
+pub(crate) struct Args {
     pub positional: Vec<(Value, Span)>,
     named: Vec<(String, Value, Span)>,
 }
@@ -38,8 +39,13 @@ impl Args {
 }
 
 impl Evaluator {
-    /// Checks a call against its signature; `None` when `name` is no function.
-    pub(super) fn check_call(&mut self, callee: &Ident, args: &[Arg], span: Span) -> Eval<()> {
+    /// Checks a call against the signature of its built-in, which it returns.
+    pub(super) fn check_call(
+        &mut self,
+        callee: &Ident,
+        args: &[Arg],
+        span: Span,
+    ) -> Eval<&'static Builtin> {
         let Some(sig) = crate::lang::builtins::get(&callee.name) else {
             let mut candidates: Vec<&str> = crate::lang::builtins::names().collect();
             candidates.extend(self.funcs.iter().map(|f| f.def.name.name.as_str()));
@@ -133,7 +139,7 @@ impl Evaluator {
         if failed {
             Err(Fail)
         } else {
-            Ok(())
+            Ok(sig)
         }
     }
 
@@ -142,7 +148,7 @@ impl Evaluator {
         if let Some(&index) = self.func_index.get(&callee.name) {
             return self.user_call(index, args, span);
         }
-        self.check_call(callee, args, span)?;
+        let sig = self.check_call(callee, args, span)?;
         let mut positional = Vec::new();
         let mut named = Vec::new();
         let mut failed = false;
@@ -159,7 +165,7 @@ impl Evaluator {
             return Err(Fail);
         }
         let mut a = Args { positional, named };
-        self.apply(&callee.name, &mut a, span)
+        self.apply(sig.body, &mut a, span)
     }
 
     fn nums(&mut self, a: &Args) -> Eval<Vec<f64>> {
@@ -167,52 +173,58 @@ impl Evaluator {
         results.into_iter().collect()
     }
 
-    fn apply(&mut self, name: &str, a: &mut Args, span: Span) -> Eval<Value> {
-        if let Some(f) = math::fn1(name) {
-            let x = self.nums(a)?[0];
-            let r = math::apply1(f, x).and_then(super::value::finite);
-            return self.at(span, r).map(Value::Num);
-        }
-        if let Some(f) = math::fn2(name) {
-            let x = self.nums(a)?;
-            let r = super::value::finite(math::apply2(f, x[0], x[1]));
-            return self.at(span, r).map(Value::Num);
-        }
-        if let Some(f) = math::fn3(name) {
-            let x = self.nums(a)?;
-            let r = super::value::finite(math::apply3(f, x[0], x[1], x[2]));
-            return self.at(span, r).map(Value::Num);
-        }
-        match name {
-            "random" => Ok(Value::Num(math::random(self.nums(a)?[0]))),
-            "keyframes" => {
-                let (xv, xs) = a.positional[0].clone();
-                let x = self.num(&xv, xs)?;
-                let (list, ls) = a.positional[1].clone();
-                let keys = self.keys(&list, ls)?;
-                let smooth = self.keyword_bool(a, "smooth", false)?;
-                Ok(Value::Num(math::keyframes(&keys, x, smooth)))
+    /// Evaluates a checked call through its entry of the table.
+    fn apply(&mut self, body: Body, a: &mut Args, span: Span) -> Eval<Value> {
+        let r = match body {
+            Body::Num1(f) => {
+                let x = self.nums(a)?[0];
+                math::apply1(f, x).and_then(super::value::finite)
             }
-            "rgb" => {
+            Body::Num2(f) => {
                 let x = self.nums(a)?;
-                let c = DVec3::new(x[0], x[1], x[2]);
-                self.color(&Value::Vec3(c), span).map(Value::Vec3)
+                super::value::finite(math::apply2(f, x[0], x[1]))
             }
-            "hex" => {
-                let (v, s) = a.positional[0].clone();
-                let text = self.string(&v, s)?;
-                let r = super::exprs::hex_color(&text);
-                self.at(s, r).map(Value::Vec3)
+            Body::Num3(f) => {
+                let x = self.nums(a)?;
+                super::value::finite(math::apply3(f, x[0], x[1], x[2]))
             }
-            "gradient" => {
-                let (b, bs) = a.positional[0].clone();
-                let (t, ts) = a.positional[1].clone();
-                let bottom = self.color(&b, bs);
-                let top = self.color(&t, ts);
-                Ok(Value::Gradient(bottom?, top?))
-            }
-            _ => self.texture_or_material(name, a, span),
-        }
+            Body::Call(f) => return f(self, a, span),
+        };
+        self.at(span, r).map(Value::Num)
+    }
+
+    pub(crate) fn random_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        Ok(Value::Num(math::random(self.nums(a)?[0])))
+    }
+
+    pub(crate) fn keyframes_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (xv, xs) = a.positional[0].clone();
+        let x = self.num(&xv, xs)?;
+        let (list, ls) = a.positional[1].clone();
+        let keys = self.keys(&list, ls)?;
+        let smooth = self.keyword_bool(a, "smooth", false)?;
+        Ok(Value::Num(math::keyframes(&keys, x, smooth)))
+    }
+
+    pub(crate) fn rgb_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let x = self.nums(a)?;
+        let c = DVec3::new(x[0], x[1], x[2]);
+        self.color(&Value::Vec3(c), span).map(Value::Vec3)
+    }
+
+    pub(crate) fn hex_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (v, s) = a.positional[0].clone();
+        let text = self.string(&v, s)?;
+        let r = super::exprs::hex_color(&text);
+        self.at(s, r).map(Value::Vec3)
+    }
+
+    pub(crate) fn gradient_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (b, bs) = a.positional[0].clone();
+        let (t, ts) = a.positional[1].clone();
+        let bottom = self.color(&b, bs);
+        let top = self.color(&t, ts);
+        Ok(Value::Gradient(bottom?, top?))
     }
 
     fn keyword_bool(&mut self, a: &mut Args, name: &str, default: bool) -> Eval<bool> {
@@ -276,115 +288,127 @@ impl Evaluator {
         }
     }
 
-    fn texture_or_material(&mut self, name: &str, a: &mut Args, span: Span) -> Eval<Value> {
-        let first = a.positional.first().cloned();
-        let first_tex = |ev: &mut Evaluator| {
-            let (v, s) = first.clone().unwrap_or((Value::Num(0.0), span));
-            ev.texture(&v, s)
+    /// The texture of the first positional argument.
+    fn first_texture(&mut self, a: &Args, span: Span) -> Eval<crate::scene::TextureId> {
+        let (v, s) = a
+            .positional
+            .first()
+            .cloned()
+            .unwrap_or((Value::Num(0.0), span));
+        self.texture(&v, s)
+    }
+
+    fn new_material(&mut self, m: Material) -> Value {
+        Value::Material(self.scene.add_material(m))
+    }
+
+    pub(crate) fn solid_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (v, s) = a.positional[0].clone();
+        let c = self.color(&v, s)?;
+        Ok(Value::Texture(
+            self.scene.add_texture(Texture::Solid(c.as_vec3())),
+        ))
+    }
+
+    pub(crate) fn checker_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (even, es) = a.positional[0].clone();
+        let (odd, os) = a.positional[1].clone();
+        let even = self.texture(&even, es);
+        let odd = self.texture(&odd, os);
+        let (scale, ss) = self.keyword_num(a, "scale", 10.0)?;
+        let scale = self.positive(
+            scale,
+            ss,
+            "the checker scale",
+            "the scale is the frequency of the squares, e.g. `scale: 10`",
+        )?;
+        let uv = self.keyword_bool(a, "uv", false)?;
+        let space = if uv {
+            CheckerSpace::Uv
+        } else {
+            CheckerSpace::Solid
         };
-        Ok(match name {
-            "solid" => {
-                let (v, s) = a.positional[0].clone();
-                let c = self.color(&v, s)?;
-                Value::Texture(self.scene.add_texture(Texture::Solid(c.as_vec3())))
-            }
-            "checker" => {
-                let (even, es) = a.positional[0].clone();
-                let (odd, os) = a.positional[1].clone();
-                let even = self.texture(&even, es);
-                let odd = self.texture(&odd, os);
-                let (scale, ss) = self.keyword_num(a, "scale", 10.0)?;
-                let scale = self.positive(
-                    scale,
-                    ss,
-                    "the checker scale",
-                    "the scale is the frequency of the squares, e.g. `scale: 10`",
-                )?;
-                let uv = self.keyword_bool(a, "uv", false)?;
-                let space = if uv {
-                    CheckerSpace::Uv
-                } else {
-                    CheckerSpace::Solid
-                };
-                Value::Texture(self.scene.add_texture(Texture::Checker {
-                    even: even?,
-                    odd: odd?,
-                    scale: scale as f32,
-                    space,
-                }))
-            }
-            "image" => {
-                let (v, s) = a.positional[0].clone();
-                let path = self.string(&v, s)?;
-                Value::Texture(self.image_texture(&path, s)?)
-            }
-            "noise" => {
-                let (scale, ss) = self.keyword_num(a, "scale", 1.0)?;
-                let scale = self.positive(
-                    scale,
-                    ss,
-                    "the noise scale",
-                    "the scale is the frequency of the noise, e.g. `scale: 4`",
-                )?;
-                let color = match a.keyword("color") {
-                    Some((v, s)) => self.color(&v, s)?,
-                    None => DVec3::ONE,
-                };
-                Value::Texture(self.scene.add_texture(Texture::Noise {
-                    scale: scale as f32,
-                    color: color.as_vec3(),
-                }))
-            }
-            "lambertian" => {
-                let albedo = first_tex(self)?;
-                Value::Material(self.scene.add_material(Material::Lambertian { albedo }))
-            }
-            "metal" => {
-                let albedo = first_tex(self);
-                let (fuzz, fs) = self.keyword_num(a, "fuzz", 0.0)?;
-                if !(0.0..=1.0).contains(&fuzz) {
-                    return Err(self.report(
-                        Diagnostic::error(
-                            Code::Range,
-                            fs,
-                            format!("fuzz must be in [0, 1], not {fuzz}"),
-                        )
-                        .label("out of range")
-                        .help("0 is a perfect mirror, 1 the roughest metal"),
-                    ));
-                }
-                Value::Material(self.scene.add_material(Material::Metal {
-                    albedo: albedo?,
-                    fuzz: fuzz as f32,
-                }))
-            }
-            "dielectric" => {
-                let ior = self.nums(a)?[0];
-                let s = a.positional[0].1;
-                let ior = self.positive(
-                    ior,
-                    s,
-                    "the index of refraction",
-                    "glass is about 1.5, water 1.33, air 1",
-                )?;
-                Value::Material(
-                    self.scene
-                        .add_material(Material::Dielectric { ior: ior as f32 }),
+        Ok(Value::Texture(self.scene.add_texture(Texture::Checker {
+            even: even?,
+            odd: odd?,
+            scale: scale as f32,
+            space,
+        })))
+    }
+
+    pub(crate) fn image_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (v, s) = a.positional[0].clone();
+        let path = self.string(&v, s)?;
+        Ok(Value::Texture(self.image_texture(&path, s)?))
+    }
+
+    pub(crate) fn noise_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (scale, ss) = self.keyword_num(a, "scale", 1.0)?;
+        let scale = self.positive(
+            scale,
+            ss,
+            "the noise scale",
+            "the scale is the frequency of the noise, e.g. `scale: 4`",
+        )?;
+        let color = match a.keyword("color") {
+            Some((v, s)) => self.color(&v, s)?,
+            None => DVec3::ONE,
+        };
+        Ok(Value::Texture(self.scene.add_texture(Texture::Noise {
+            scale: scale as f32,
+            color: color.as_vec3(),
+        })))
+    }
+
+    pub(crate) fn lambertian_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let albedo = self.first_texture(a, span)?;
+        Ok(self.new_material(Material::Lambertian { albedo }))
+    }
+
+    pub(crate) fn metal_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let albedo = self.first_texture(a, span);
+        let (fuzz, fs) = self.keyword_num(a, "fuzz", 0.0)?;
+        if !(0.0..=1.0).contains(&fuzz) {
+            return Err(self.report(
+                Diagnostic::error(
+                    Code::Range,
+                    fs,
+                    format!("fuzz must be in [0, 1], not {fuzz}"),
                 )
-            }
-            "light" => {
-                let emit = first_tex(self);
-                let two_sided = self.keyword_bool(a, "two_sided", false)?;
-                Value::Material(self.scene.add_material(Material::Light {
-                    emit: emit?,
-                    two_sided,
-                }))
-            }
-            _ => {
-                let albedo = first_tex(self)?;
-                Value::Material(self.scene.add_material(Material::Isotropic { albedo }))
-            }
-        })
+                .label("out of range")
+                .help("0 is a perfect mirror, 1 the roughest metal"),
+            ));
+        }
+        Ok(self.new_material(Material::Metal {
+            albedo: albedo?,
+            fuzz: fuzz as f32,
+        }))
+    }
+
+    pub(crate) fn dielectric_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let ior = self.nums(a)?[0];
+        let s = a.positional[0].1;
+        let ior = self.positive(
+            ior,
+            s,
+            "the index of refraction",
+            "glass is about 1.5, water 1.33, air 1",
+        )?;
+        Ok(self.new_material(Material::Dielectric { ior: ior as f32 }))
+    }
+
+    pub(crate) fn light_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let emit = self.first_texture(a, span);
+        let two_sided = self.keyword_bool(a, "two_sided", false)?;
+        Ok(self.new_material(Material::Light {
+            emit: emit?,
+            two_sided,
+        }))
+    }
+
+    pub(crate) fn isotropic_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let albedo = self.first_texture(a, span)?;
+        Ok(self.new_material(Material::Isotropic { albedo }))
     }
 
     /// `bezier [points]`: at least two `(radius, height)` points.

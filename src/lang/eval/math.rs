@@ -6,43 +6,6 @@ use crate::scene::motion::{Fn1, Fn2, Fn3};
 
 use super::issue::Issue;
 
-/// The one-argument function called `name`.
-pub fn fn1(name: &str) -> Option<Fn1> {
-    Some(match name {
-        "sin" => Fn1::Sin,
-        "cos" => Fn1::Cos,
-        "tan" => Fn1::Tan,
-        "sqrt" => Fn1::Sqrt,
-        "abs" => Fn1::Abs,
-        "radians" => Fn1::Radians,
-        "degrees" => Fn1::Degrees,
-        "exp" => Fn1::Exp,
-        "ln" => Fn1::Ln,
-        "floor" => Fn1::Floor,
-        _ => return None,
-    })
-}
-
-/// The two-argument function called `name`.
-pub fn fn2(name: &str) -> Option<Fn2> {
-    Some(match name {
-        "min" => Fn2::Min,
-        "max" => Fn2::Max,
-        "pow" => Fn2::Pow,
-        _ => return None,
-    })
-}
-
-/// The three-argument function called `name`.
-pub fn fn3(name: &str) -> Option<Fn3> {
-    Some(match name {
-        "lerp" => Fn3::Lerp,
-        "clamp" => Fn3::Clamp,
-        "smoothstep" => Fn3::Smoothstep,
-        _ => return None,
-    })
-}
-
 /// Applies a one-argument function; domain errors are issues.
 pub fn apply1(f: Fn1, x: f64) -> Result<f64, Issue> {
     let domain =

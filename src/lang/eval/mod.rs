@@ -34,8 +34,9 @@ use super::cache::AssetCache;
 use super::diagnostics::Diagnostic;
 use super::source::{SourceMap, Span};
 
+pub(crate) use builtins::Args;
 pub use math::random;
-use value::Value;
+pub(crate) use value::Value;
 
 /// What a scene is evaluated with besides its text.
 #[derive(Clone, Debug)]

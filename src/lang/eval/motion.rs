@@ -7,6 +7,7 @@ use super::props::Allow;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Arg, BinOp, Expr, ExprKind, Stmt, TransformKind};
+use crate::lang::builtins::Body;
 use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::expr::Sym;
@@ -318,7 +319,7 @@ impl Evaluator {
         args: &[Arg],
         span: Span,
     ) -> Eval<SymVal> {
-        self.check_call(callee, args, span)?;
+        let body = self.check_call(callee, args, span)?.body;
         let positional: Vec<&Expr> = args
             .iter()
             .filter(|a| a.name.is_none())
@@ -328,7 +329,7 @@ impl Evaluator {
             let results: Vec<Eval<Sym>> = positional.iter().map(|e| ev.sym_scalar(e)).collect();
             results.into_iter().collect()
         };
-        if let Some(f) = math::fn1(name) {
+        if let Body::Num1(f) = body {
             let x = scalars(self)?.remove(0);
             return match x.constant() {
                 Some(c) => {
@@ -338,7 +339,7 @@ impl Evaluator {
                 None => Ok(SymVal::Scalar(Sym::Call1(f, Box::new(x)))),
             };
         }
-        if let Some(f) = math::fn2(name) {
+        if let Body::Num2(f) = body {
             let mut x = scalars(self)?;
             let (b, a) = (x.remove(1), x.remove(0));
             return Ok(SymVal::Scalar(match (a.constant(), b.constant()) {
@@ -346,7 +347,7 @@ impl Evaluator {
                 _ => Sym::Call2(f, Box::new(a), Box::new(b)),
             }));
         }
-        if let Some(f) = math::fn3(name) {
+        if let Body::Num3(f) = body {
             let mut x = scalars(self)?;
             let (c, b, a) = (x.remove(2), x.remove(1), x.remove(0));
             return Ok(SymVal::Scalar(

@@ -10,7 +10,7 @@ use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Object, ObjectKind, RectPlane, Stmt};
 use crate::lang::diagnostics::Diagnostic;
-use crate::lang::properties;
+use crate::lang::properties::{self, cuboid, medium, mesh, plane, rect, revolve, sphere, triangle};
 use crate::lang::source::Span;
 use crate::scene::object::{RectPlane as Plane, RevolutionMode};
 use crate::scene::{MaterialId, Node, Shape};
@@ -158,7 +158,7 @@ impl Evaluator {
 
     /// The material of a shape: required except inside a medium's boundary.
     fn shape_material(&mut self, b: &Block, o: &Object) -> Eval<MaterialId> {
-        match self.prop(b, "material")? {
+        match self.prop(b, &properties::MATERIAL)? {
             Some((v, s)) => self.material(&v, s),
             None if self.in_boundary > 0 => Ok(self.default_material()),
             None => Err(self.missing(
@@ -195,8 +195,8 @@ impl Evaluator {
     }
 
     fn sphere(&mut self, b: &Block, o: &Object) -> Eval<Node> {
-        let center = self.prop_vec3(b, "center", DVec3::ZERO);
-        let radius = self.prop_num(b, "radius", 1.0).and_then(|(r, s)| {
+        let center = self.prop_vec3(b, &sphere::CENTER, DVec3::ZERO);
+        let radius = self.prop_num(b, &sphere::RADIUS, 1.0).and_then(|(r, s)| {
             self.range(
                 r > 0.0,
                 s,
@@ -217,10 +217,10 @@ impl Evaluator {
 
     fn plane(&mut self, b: &Block, o: &Object) -> Eval<Node> {
         let normal = self
-            .prop_vec3(b, "normal", DVec3::Y)
+            .prop_vec3(b, &plane::NORMAL, DVec3::Y)
             .and_then(|(n, s)| self.unit(n, s, "the normal"));
-        let point = self.prop(b, "point");
-        let offset = self.prop(b, "offset");
+        let point = self.prop(b, &plane::POINT);
+        let offset = self.prop(b, &plane::OFFSET);
         let material = self.shape_material(b, o);
         let (normal, point, offset) = (normal?, point?, offset?);
         let point = match (point, offset) {
@@ -259,9 +259,9 @@ impl Evaluator {
     }
 
     fn rect(&mut self, b: &Block, plane: RectPlane, o: &Object) -> Eval<Node> {
-        let from = self.prop_vec2(b, "from", DVec2::ZERO);
-        let to = self.prop_vec2(b, "to", DVec2::ONE);
-        let at = self.prop_num(b, "at", 0.0);
+        let from = self.prop_vec2(b, &rect::FROM, DVec2::ZERO);
+        let to = self.prop_vec2(b, &rect::TO, DVec2::ONE);
+        let at = self.prop_num(b, &rect::AT, 0.0);
         let material = self.shape_material(b, o);
         let ((from, _), (to, ts), (at, _)) = (from?, to?, at?);
         let (lo, hi) = (from.min(to), from.max(to));
@@ -285,8 +285,8 @@ impl Evaluator {
     }
 
     fn cuboid(&mut self, b: &Block, o: &Object) -> Eval<Node> {
-        let min = self.prop_vec3(b, "min", DVec3::ZERO);
-        let max = self.prop_vec3(b, "max", DVec3::ONE);
+        let min = self.prop_vec3(b, &cuboid::MIN, DVec3::ZERO);
+        let max = self.prop_vec3(b, &cuboid::MAX, DVec3::ONE);
         let material = self.shape_material(b, o);
         let ((min, _), (max, ms)) = (min?, max?);
         self.range(
@@ -306,9 +306,9 @@ impl Evaluator {
     }
 
     fn triangle(&mut self, b: &Block, o: &Object) -> Eval<Node> {
-        let a = self.prop_vec3(b, "a", DVec3::ZERO);
-        let bb = self.prop_vec3(b, "b", DVec3::X);
-        let c = self.prop_vec3(b, "c", DVec3::Y);
+        let a = self.prop_vec3(b, &triangle::A, DVec3::ZERO);
+        let bb = self.prop_vec3(b, &triangle::B, DVec3::X);
+        let c = self.prop_vec3(b, &triangle::C, DVec3::Y);
         let material = self.shape_material(b, o);
         let ((a, sa), (bv, sb), (c, sc)) = (a?, bb?, c?);
         let limit = crate::scene::object::MAX_COORDINATE;
@@ -340,7 +340,7 @@ impl Evaluator {
 
     fn mesh_node(&mut self, b: &Block, path: &crate::lang::ast::Expr) -> Eval<Node> {
         let file = self.expr(path).and_then(|v| self.string(&v, path.span));
-        let material = match self.prop(b, "material") {
+        let material = match self.prop(b, &mesh::MATERIAL) {
             Ok(Some((v, s))) => self.material(&v, s).map(Some),
             Ok(None) => Ok(None),
             Err(f) => Err(f),
@@ -370,24 +370,28 @@ impl Evaluator {
         };
         let material = self.shape_material(b, o);
         let analytic = self.mode(b);
-        let resolution = self.prop_count(b, "resolution", 50).and_then(|(r, s)| {
-            self.range(
-                (3..=100_000).contains(&r),
-                s,
-                format!("the resolution must be in 3..=100000, not {r}"),
-                "the resolution is the number of segments along the curve and around the axis",
-            )?;
-            Ok(r)
-        });
-        let tolerance = self.prop_num(b, "tolerance", 1e-4).and_then(|(t, s)| {
-            self.range(
-                t > 0.0 && t <= 0.1,
-                s,
-                format!("the tolerance must be in (0, 0.1], not {t}"),
-                "the Newton tolerance is a fraction of the profile's size, e.g. 1e-4",
-            )?;
-            Ok(t)
-        });
+        let resolution = self
+            .prop_count(b, &revolve::RESOLUTION, 50)
+            .and_then(|(r, s)| {
+                self.range(
+                    (3..=100_000).contains(&r),
+                    s,
+                    format!("the resolution must be in 3..=100000, not {r}"),
+                    "the resolution is the number of segments along the curve and around the axis",
+                )?;
+                Ok(r)
+            });
+        let tolerance = self
+            .prop_num(b, &revolve::TOLERANCE, 1e-4)
+            .and_then(|(t, s)| {
+                self.range(
+                    t > 0.0 && t <= 0.1,
+                    s,
+                    format!("the tolerance must be in (0, 0.1], not {t}"),
+                    "the Newton tolerance is a fraction of the profile's size, e.g. 1e-4",
+                )?;
+                Ok(t)
+            });
         let (curve, material, analytic, resolution, tolerance) =
             (curve?, material?, analytic?, resolution?, tolerance?);
         let mode = if analytic {
@@ -409,7 +413,7 @@ impl Evaluator {
 
     /// `mode mesh | analytic` (or a string with either word); default analytic.
     fn mode(&mut self, b: &Block) -> Eval<bool> {
-        let Some(e) = b.get("mode") else {
+        let Some(e) = b.get(&revolve::MODE) else {
             return Ok(true);
         };
         let word = match &e.kind {
@@ -432,7 +436,7 @@ impl Evaluator {
 
     fn medium(&mut self, b: &Block, o: &Object) -> Eval<Node> {
         self.in_boundary += 1;
-        let boundary = match self.prop(b, "boundary") {
+        let boundary = match self.prop(b, &medium::BOUNDARY) {
             Ok(Some((Value::Object(node), _))) => Ok((*node).clone()),
             Ok(Some((other, s))) => Err(self.report(
                 Diagnostic::error(
@@ -451,7 +455,7 @@ impl Evaluator {
             Err(f) => Err(f),
         };
         self.in_boundary -= 1;
-        let density = self.prop_num(b, "density", 1.0).and_then(|(d, s)| {
+        let density = self.prop_num(b, &medium::DENSITY, 1.0).and_then(|(d, s)| {
             self.range(
                 d > 0.0,
                 s,
@@ -460,7 +464,7 @@ impl Evaluator {
             )?;
             Ok(d)
         });
-        let color = match self.prop(b, "color") {
+        let color = match self.prop(b, &medium::COLOR) {
             Ok(Some((v, s))) => self.texture(&v, s),
             Ok(None) => self.texture(&Value::Vec3(DVec3::ONE), o.head),
             Err(f) => Err(f),

@@ -66,11 +66,11 @@ pub(super) struct Block<'a> {
 }
 
 impl Block<'_> {
-    /// The expression of property `name`, if present.
-    pub fn get(&self, name: &str) -> Option<&Expr> {
+    /// The expression of property `key`, if present.
+    pub fn get(&self, key: &Prop) -> Option<&Expr> {
         self.props
             .iter()
-            .find(|(n, _)| n.name == name)
+            .find(|(n, _)| n.name == key.name)
             .map(|(_, e)| *e)
     }
 }
@@ -184,17 +184,17 @@ impl Evaluator {
         self.report(d);
     }
 
-    /// Property `name` evaluated, if present.
-    pub(super) fn prop(&mut self, b: &Block, name: &str) -> Eval<Option<(Value, Span)>> {
-        match b.get(name) {
+    /// Property `key` evaluated, if present.
+    pub(super) fn prop(&mut self, b: &Block, key: &Prop) -> Eval<Option<(Value, Span)>> {
+        match b.get(key) {
             Some(e) => Ok(Some((self.expr(e)?, e.span))),
             None => Ok(None),
         }
     }
 
     /// A number property with a default.
-    pub(super) fn prop_num(&mut self, b: &Block, name: &str, default: f64) -> Eval<(f64, Span)> {
-        match self.prop(b, name)? {
+    pub(super) fn prop_num(&mut self, b: &Block, key: &Prop, default: f64) -> Eval<(f64, Span)> {
+        match self.prop(b, key)? {
             Some((v, s)) => Ok((self.num(&v, s)?, s)),
             None => Ok((default, Span::default())),
         }
@@ -204,10 +204,10 @@ impl Evaluator {
     pub(super) fn prop_vec3(
         &mut self,
         b: &Block,
-        name: &str,
+        key: &Prop,
         default: DVec3,
     ) -> Eval<(DVec3, Span)> {
-        match self.prop(b, name)? {
+        match self.prop(b, key)? {
             Some((v, s)) => Ok((self.vec3(&v, s)?, s)),
             None => Ok((default, Span::default())),
         }
@@ -217,19 +217,19 @@ impl Evaluator {
     pub(super) fn prop_vec2(
         &mut self,
         b: &Block,
-        name: &str,
+        key: &Prop,
         default: DVec2,
     ) -> Eval<(DVec2, Span)> {
-        match self.prop(b, name)? {
+        match self.prop(b, key)? {
             Some((v, s)) => Ok((self.vec2(&v, s)?, s)),
             None => Ok((default, Span::default())),
         }
     }
 
     /// A whole-number property with a default.
-    pub(super) fn prop_count(&mut self, b: &Block, name: &str, default: u32) -> Eval<(u32, Span)> {
-        match self.prop(b, name)? {
-            Some((v, s)) => Ok((self.count(&v, s, &format!("`{name}`"))?, s)),
+    pub(super) fn prop_count(&mut self, b: &Block, key: &Prop, default: u32) -> Eval<(u32, Span)> {
+        match self.prop(b, key)? {
+            Some((v, s)) => Ok((self.count(&v, s, &format!("`{}`", key.name))?, s)),
             None => Ok((default, Span::default())),
         }
     }

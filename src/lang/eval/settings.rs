@@ -8,7 +8,7 @@ use super::{Eval, Evaluator};
 use crate::lang::ast::{Item, Stmt};
 use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
-use crate::lang::properties;
+use crate::lang::properties::{self, camera, render};
 use crate::scene::Background;
 
 /// Bytes the renderer keeps per pixel (accumulator and output), for the
@@ -31,7 +31,9 @@ impl Evaluator {
             })
             .and_then(|body| {
                 body.iter().find_map(|stmt| match stmt {
-                    Stmt::Property { name, value, .. } if name.name == "fps" => Some(value),
+                    Stmt::Property { name, value, .. } if name.name == render::FPS.name => {
+                        Some(value)
+                    }
                     _ => None,
                 })
             });
@@ -82,7 +84,7 @@ impl Evaluator {
                 }
             }
         }
-        if let Ok((spp, s)) = self.prop_count(&b, "samples", self.scene.settings.spp) {
+        if let Ok((spp, s)) = self.prop_count(&b, &render::SAMPLES, self.scene.settings.spp) {
             if self
                 .range(
                     spp > 0,
@@ -96,7 +98,7 @@ impl Evaluator {
                 self.samples_span = Some(s);
             }
         }
-        if let Ok((depth, s)) = self.prop_count(&b, "depth", self.scene.settings.max_depth) {
+        if let Ok((depth, s)) = self.prop_count(&b, &render::DEPTH, self.scene.settings.max_depth) {
             if self
                 .range(
                     depth > 0,
@@ -109,10 +111,10 @@ impl Evaluator {
                 self.scene.settings.max_depth = depth;
             }
         }
-        if let Ok((seed, _)) = self.prop_count(&b, "seed", 0) {
+        if let Ok((seed, _)) = self.prop_count(&b, &render::SEED, 0) {
             self.scene.settings.seed = seed as u64;
         }
-        if let Ok(Some((v, s))) = self.prop(&b, "background") {
+        if let Ok(Some((v, s))) = self.prop(&b, &render::BACKGROUND) {
             let bg = match v {
                 Value::Gradient(bottom, top) => Ok(Background::Gradient {
                     bottom: bottom.as_vec3(),
@@ -135,11 +137,11 @@ impl Evaluator {
         };
         let b = self.block(body, &allow);
         let cam = self.scene.camera;
-        let from = self.prop_vec3(&b, "from", cam.from.as_dvec3());
-        let at = self.prop_vec3(&b, "at", cam.at.as_dvec3());
-        let up = self.prop_vec3(&b, "up", cam.up.as_dvec3());
+        let from = self.prop_vec3(&b, &camera::FROM, cam.from.as_dvec3());
+        let at = self.prop_vec3(&b, &camera::AT, cam.at.as_dvec3());
+        let up = self.prop_vec3(&b, &camera::UP, cam.up.as_dvec3());
         let fov = self
-            .prop_num(&b, "fov", cam.vfov as f64)
+            .prop_num(&b, &camera::FOV, cam.vfov as f64)
             .and_then(|(f, s)| {
                 self.range(
                     f > 0.0 && f < 180.0,
@@ -149,16 +151,18 @@ impl Evaluator {
                 )?;
                 Ok(f)
             });
-        let aperture = self.prop_num(&b, "aperture", 0.0).and_then(|(a, s)| {
-            self.range(
-                a >= 0.0,
-                s,
-                format!("the aperture must not be negative, not {a}"),
-                "0 is a pinhole camera",
-            )?;
-            Ok(a)
-        });
-        let focus = match self.prop(&b, "focus") {
+        let aperture = self
+            .prop_num(&b, &camera::APERTURE, 0.0)
+            .and_then(|(a, s)| {
+                self.range(
+                    a >= 0.0,
+                    s,
+                    format!("the aperture must not be negative, not {a}"),
+                    "0 is a pinhole camera",
+                )?;
+                Ok(a)
+            });
+        let focus = match self.prop(&b, &camera::FOCUS) {
             Ok(Some((v, s))) => self.num(&v, s).and_then(|f| {
                 self.range(
                     f > 0.0,
