@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
-use super::shapes::triangle::ShearedRay;
+use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::{Aabb, Bvh, Ray};
 use crate::scene::{MaterialId, MeshData};
@@ -87,7 +87,7 @@ impl MeshGeometry {
         let idx = self.data.triangles[tri as usize].map(|i| i as usize);
         let [a, b, c] = idx.map(|i| pos[i]);
         let w = h.bary;
-        let normal = (b - a).cross(c - a).normalize_or(Vec3::Y);
+        let normal = unit_normal(a, b, c).unwrap_or(Vec3::Y);
         let shading_normal = if self.data.normals.is_empty() {
             normal
         } else {

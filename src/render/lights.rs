@@ -16,6 +16,7 @@ use glam::Mat4;
 use glam::{Affine3A, Mat3A, Vec2, Vec3};
 
 use crate::geometry::ray::{gamma, SurfacePoint};
+use crate::geometry::shapes::triangle::unit_normal;
 use crate::sampling::Sampler;
 use crate::scene::object::RectPlane;
 use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
@@ -498,7 +499,7 @@ impl Walker<'_> {
             }
             Shape::Triangle { vertices } => {
                 let [a, b, c] = *vertices;
-                let n = (b - a).cross(c - a).normalize_or_zero();
+                let n = unit_normal(a, b, c).unwrap_or(Vec3::ZERO);
                 let v = vertices.map(|p| m.transform_point3(p));
                 self.push(
                     LightShape::Triangle {
@@ -547,7 +548,7 @@ impl Walker<'_> {
             else {
                 continue;
             };
-            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            let n = unit_normal(p[0], p[1], p[2]).unwrap_or(Vec3::ZERO);
             self.push(
                 LightShape::Triangle {
                     v: [p[0], p[1], p[2]].map(|q| m.transform_point3(q)),

@@ -107,6 +107,19 @@ impl TriangleHit {
     }
 }
 
+/// The unit normal of the counter-clockwise triangle `a b c`, or `None` if
+/// it is degenerate. The f32 cross product's squared length overflows for
+/// edges above about 2e9 units (and underflows below about 1e-10); those
+/// are normalized in f64, so a triangle's normal does not depend on its
+/// scale.
+#[inline]
+pub fn unit_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
+    (b - a).cross(c - a).try_normalize().or_else(|| {
+        let [a, b, c] = [a, b, c].map(|p| p.as_dvec3());
+        (b - a).cross(c - a).try_normalize().map(|n| n.as_vec3())
+    })
+}
+
 impl Triangle {
     pub fn bounds(&self) -> Aabb {
         let [a, b, c] = self.v;
@@ -123,7 +136,7 @@ impl Triangle {
             t: h.t,
             point: h.bary.x * a + h.bary.y * b + h.bary.z * c,
             error: h.error([a, b, c]),
-            normal: (b - a).cross(c - a).normalize_or(Vec3::Y),
+            normal: unit_normal(a, b, c).unwrap_or(Vec3::Y),
             uv: Vec2::new(h.bary.y, h.bary.z).into(),
         })
     }
