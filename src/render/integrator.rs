@@ -43,9 +43,10 @@ pub struct Tracer<'a> {
 enum Previous {
     /// A camera ray or a specular bounce: no light sampling competed.
     Specular,
-    /// A light-sampled scattering at `point` whose sampling density of the
-    /// direction (in solid angle) was `pdf`.
-    Scattered { point: Vec3, pdf: f32 },
+    /// A light-sampled scattering at `point` (surface normal `normal`, zero
+    /// in a medium) whose sampling density of the direction (in solid
+    /// angle) was `pdf`.
+    Scattered { point: Vec3, normal: Vec3, pdf: f32 },
 }
 
 /// The power heuristic weight of a strategy with density `a` against `b`,
@@ -96,12 +97,12 @@ impl Tracer<'_> {
             let step = interact(self.scene, &hit, ray.dir, sampler);
             if step.emitted != Vec3::ZERO {
                 let weight = match previous {
-                    Previous::Scattered { point, pdf }
+                    Previous::Scattered { point, normal, pdf }
                         if nee && lights.is_sampled(hit.material) =>
                     {
                         power_heuristic(
                             pdf,
-                            lights.pdf(hit.material, point, hit.point, hit.geo_normal),
+                            lights.pdf(hit.material, point, normal, hit.point, hit.geo_normal),
                         )
                     }
                     _ => 1.0,
@@ -117,6 +118,7 @@ impl Tracer<'_> {
                     rays += self.direct(
                         lights,
                         &hit,
+                        hit.normal,
                         ray.time,
                         sampler,
                         &mut media,
@@ -130,6 +132,7 @@ impl Tracer<'_> {
                     );
                     Previous::Scattered {
                         point: hit.point,
+                        normal: hit.normal,
                         pdf: hit.normal.dot(dir).max(0.0) * FRAC_1_PI,
                     }
                 }
@@ -138,6 +141,7 @@ impl Tracer<'_> {
                     rays += self.direct(
                         lights,
                         &hit,
+                        Vec3::ZERO,
                         ray.time,
                         sampler,
                         &mut media,
@@ -147,6 +151,7 @@ impl Tracer<'_> {
                     );
                     Previous::Scattered {
                         point: hit.point,
+                        normal: Vec3::ZERO,
                         pdf: 1.0 / (4.0 * PI),
                     }
                 }
@@ -166,7 +171,8 @@ impl Tracer<'_> {
         (radiance, rays)
     }
 
-    /// Next-event estimation at `hit`: samples a light point, and if
+    /// Next-event estimation at `hit` (whose normal for choosing a light is
+    /// `normal`, zero in a medium): samples a light point, and if
     /// `scatter(wi)` gives the scattering value (BSDF × cosine) and its own
     /// sampling density, traces a shadow ray and adds the weighted light.
     /// Returns the rays traced.
@@ -176,6 +182,7 @@ impl Tracer<'_> {
         &self,
         lights: &LightList,
         hit: &Hit,
+        normal: Vec3,
         time: f32,
         sampler: &mut Sampler,
         media: &mut MediumSegments,
@@ -184,7 +191,7 @@ impl Tracer<'_> {
         radiance: &mut Vec3,
     ) -> u32 {
         sampler.begin(Dim::Light);
-        let Some(s) = lights.sample(hit.point, sampler) else {
+        let Some(s) = lights.sample(hit.point, normal, sampler) else {
             return 0;
         };
         let Some((f, scatter_pdf)) = scatter(s.dir) else {

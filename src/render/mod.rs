@@ -9,6 +9,7 @@ pub mod convergence;
 pub mod film;
 pub mod integrator;
 pub mod interrupt;
+pub mod light_tree;
 pub mod lights;
 pub mod material;
 pub mod merge;
