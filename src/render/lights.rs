@@ -149,11 +149,26 @@ impl LightShape {
     /// Whether the shape can be sampled: a positive, finite area and, if
     /// flat, a normal. A face of zero area in object space has no normal
     /// even when a transform's rounding leaves it a sliver of area; chosen,
-    /// it would emit nothing while taking a share of the selection.
+    /// it would emit nothing while taking a share of the selection. A face
+    /// whose corners are on one line up to rounding (area below 1e-5 of its
+    /// longest edge squared) is left out too: it would still take a leaf
+    /// of the light tree and reshape it. Left out, such a sliver is found
+    /// only by paths that hit it, with weight 1, which stays unbiased.
     fn is_sampleable(&self) -> bool {
+        let thin = |a: Vec3, b: Vec3| {
+            let (a, b) = (a.as_dvec3(), b.as_dvec3());
+            let longest = a
+                .length_squared()
+                .max(b.length_squared())
+                .max((a - b).length_squared());
+            a.cross(b).length() < 1e-5 * longest
+        };
         let facing = match *self {
-            LightShape::Parallelogram { normal, .. } | LightShape::Triangle { normal, .. } => {
-                normal != Vec3::ZERO
+            LightShape::Parallelogram { normal, edges, .. } => {
+                normal != Vec3::ZERO && !thin(edges.0, edges.1)
+            }
+            LightShape::Triangle { normal, v } => {
+                normal != Vec3::ZERO && !thin(v[1] - v[0], v[2] - v[0])
             }
             LightShape::Sphere { .. } => true,
         };
