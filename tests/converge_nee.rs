@@ -3,7 +3,9 @@
 //! the Cornell box (diffuse, and with its white surfaces fuzzy metal) and on
 //! a scene with a sphere light, a glass ball, a mirror, a one-sided rect
 //! light and a fog ball; the white furnace still returns its albedo with
-//! light sampling on.
+//! light sampling on; on a field of 64 small lamps of different colours and
+//! powers (rects and balls, one in a fog ball), choosing lights by the light
+//! tree and by power give the same image, and the same as plain path tracing.
 //!
 //! Each method is rendered with several independent seeds; a block's mean
 //! over seeds has a standard error estimated from the spread between seeds,
@@ -16,24 +18,25 @@
 
 use glam::{Mat4, Vec3};
 use rtlang::geometry::World;
-use rtlang::render::lights::LightList;
+use rtlang::render::lights::{LightList, LightSelection};
 use rtlang::render::scenes::cornell_box;
 use rtlang::render::{render, RenderOptions};
 use rtlang::scene::object::RectPlane;
-use rtlang::scene::{Background, Camera, Material, Node, Scene, Shape, Texture};
+use rtlang::scene::{Background, Camera, Material, MaterialId, Node, Scene, Shape, Texture};
 
 const SEEDS: u64 = 8;
 const BLOCK: u32 = 8;
 
-/// Per seed, the mean of each BLOCK² block and channel.
-fn block_means(scene: &Scene, light_sampling: bool) -> Vec<Vec<f64>> {
+/// Per seed, the mean of each BLOCK² block and channel, rendered with the
+/// scene's options changed by `set`.
+fn block_means(scene: &Scene, set: impl Fn(&mut RenderOptions)) -> Vec<Vec<f64>> {
     let world = World::build(scene).expect("builds");
     let (w, h) = (scene.settings.width, scene.settings.height);
     (0..SEEDS)
         .map(|seed| {
             let mut options = RenderOptions::from_settings(&scene.settings);
             options.seed = 1000 + seed;
-            options.light_sampling = light_sampling;
+            set(&mut options);
             let out = render(scene, &world, &options, &|_| {}).expect("renders");
             assert_eq!(out.stats.dropped, 0);
             let mut blocks = Vec::new();
@@ -67,10 +70,25 @@ fn summary(runs: &[Vec<f64>]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The largest |z| over blocks, and the whole-image means of both methods.
+/// The largest |z| over blocks, and the whole-image means of both methods:
+/// plain path tracing and light sampling.
 fn compare(scene: &Scene) -> (f64, f64, f64) {
-    let path = summary(&block_means(scene, false));
-    let nee = summary(&block_means(scene, true));
+    compare_options(
+        scene,
+        |o| o.light_sampling = false,
+        |o| o.light_sampling = true,
+    )
+}
+
+/// The largest |z| over blocks, and the whole-image means of the options
+/// set by `a` and by `b`.
+fn compare_options(
+    scene: &Scene,
+    a: impl Fn(&mut RenderOptions),
+    b: impl Fn(&mut RenderOptions),
+) -> (f64, f64, f64) {
+    let path = summary(&block_means(scene, a));
+    let nee = summary(&block_means(scene, b));
     let mut worst = 0.0f64;
     for (&(mp, sp), &(mn, sn)) in path.iter().zip(&nee) {
         let se = (sp + sn).sqrt();
@@ -96,6 +114,38 @@ fn cornell_box_with_and_without_light_sampling_agree() {
         (path - nee).abs() < 0.02 * nee,
         "image means {path} vs {nee}"
     );
+}
+
+/// The 12 × 12 floor at y = 0.
+fn floor_rect(material: MaterialId) -> Node {
+    Node::Shape {
+        shape: Shape::Rect {
+            plane: RectPlane::Xz,
+            a: (-6.0, 6.0),
+            b: (-6.0, 6.0),
+            k: 0.0,
+        },
+        material,
+    }
+}
+
+/// A ball of fog of `density` with phase material `fog` (the boundary
+/// sphere's material `boundary` is unused).
+fn fog_ball(
+    center: Vec3,
+    radius: f32,
+    density: f32,
+    boundary: MaterialId,
+    fog: MaterialId,
+) -> Node {
+    Node::Medium {
+        boundary: Box::new(Node::Shape {
+            shape: Shape::Sphere { center, radius },
+            material: boundary,
+        }),
+        density,
+        material: fog,
+    }
 }
 
 /// A sphere light over a floor, with a glass ball, a mirror, a one-sided
@@ -125,15 +175,7 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
     let fog = s.add_material(Material::Isotropic { albedo: fog_tex });
     let sphere = |center: Vec3, radius: f32| Shape::Sphere { center, radius };
     s.objects = vec![
-        Node::Shape {
-            shape: Shape::Rect {
-                plane: RectPlane::Xz,
-                a: (-6.0, 6.0),
-                b: (-6.0, 6.0),
-                k: 0.0,
-            },
-            material: floor,
-        },
+        floor_rect(floor),
         Node::Shape {
             shape: sphere(Vec3::new(0.0, 1.0, 0.0), 1.0),
             material: glass,
@@ -159,14 +201,7 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
             },
             material: panel,
         },
-        Node::Medium {
-            boundary: Box::new(Node::Shape {
-                shape: sphere(Vec3::new(-2.0, 0.8, 0.5), 0.8),
-                material: floor,
-            }),
-            density: 1.0,
-            material: fog,
-        },
+        fog_ball(Vec3::new(-2.0, 0.8, 0.5), 0.8, 1.0, floor, fog),
     ];
     s.camera = Camera {
         from: Vec3::new(0.0, 2.5, 8.0),
@@ -185,7 +220,12 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
 #[test]
 fn sphere_light_glass_mirror_and_fog_with_and_without_light_sampling_agree() {
     let scene = glass_and_sphere_light(32, 64);
-    assert_eq!(LightList::build(&scene).lights().len(), 2);
+    assert_eq!(
+        LightList::build(&scene, LightSelection::Tree)
+            .lights()
+            .len(),
+        2
+    );
     let (worst, path, nee) = compare(&scene);
     assert!(
         worst < 5.0,
@@ -262,7 +302,7 @@ fn white_furnace_with_a_sampled_light_as_bright_as_the_sky() {
     s.settings.max_depth = 64;
     s.settings.background = Background::Solid(Vec3::splat(0.8));
     let world = World::build(&s).expect("builds");
-    assert_eq!(LightList::build(&s).lights().len(), 1);
+    assert_eq!(LightList::build(&s, LightSelection::Tree).lights().len(), 1);
     let options = RenderOptions::from_settings(&s.settings);
     assert!(options.light_sampling);
     let out = render(&s, &world, &options, &|_| {}).expect("renders");
@@ -277,4 +317,96 @@ fn white_furnace_with_a_sampled_light_as_bright_as_the_sky() {
         .map(|p| (*p - Vec3::splat(0.8)).abs().max_element())
         .fold(0.0f32, f32::max);
     assert!(worst < 0.15, "a pixel is off by {worst}");
+}
+
+/// A field of 8 × 8 small lamps of different colours and powers over a
+/// floor: downward squares and glowing balls, some inside a fog ball.
+fn lamp_field(size: u32, spp: u32) -> Scene {
+    let mut s = Scene::default();
+    let grey = s.add_texture(Texture::Solid(Vec3::splat(0.6)));
+    let floor = s.add_material(Material::Lambertian { albedo: grey });
+    let fog_tex = s.add_texture(Texture::Solid(Vec3::splat(0.8)));
+    let fog = s.add_material(Material::Isotropic { albedo: fog_tex });
+    s.objects.push(floor_rect(floor));
+    for i in 0..64u32 {
+        let (a, b) = ((i % 8) as f32 - 3.5, (i / 8) as f32 - 3.5);
+        let h = 0.6 + 0.1 * (i % 5) as f32;
+        let colour = Vec3::new(
+            1.0 + (i % 3) as f32,
+            1.0 + (i % 4) as f32,
+            1.0 + (i % 7) as f32 * 0.5,
+        ) * (1.0 + (i % 11) as f32);
+        let emit = s.add_texture(Texture::Solid(colour));
+        let lamp = s.add_material(Material::Light {
+            emit,
+            two_sided: false,
+        });
+        let shape = if i % 4 == 0 {
+            Shape::Sphere {
+                center: Vec3::new(a, h, b),
+                radius: 0.08,
+            }
+        } else {
+            Shape::Rect {
+                plane: RectPlane::Xz,
+                a: (a - 0.1, a + 0.1),
+                b: (b - 0.1, b + 0.1),
+                k: h,
+            }
+        };
+        let node = Node::Shape {
+            shape,
+            material: lamp,
+        };
+        s.objects.push(if i % 4 == 0 {
+            node
+        } else {
+            Node::Flip(Box::new(node))
+        });
+    }
+    s.objects
+        .push(fog_ball(Vec3::new(-1.5, 0.6, -1.5), 1.0, 0.8, floor, fog));
+    s.camera = Camera {
+        from: Vec3::new(0.0, 5.0, 7.0),
+        at: Vec3::ZERO,
+        vfov: 55.0,
+        ..Camera::default()
+    };
+    s.settings.width = size;
+    s.settings.height = size;
+    s.settings.spp = spp;
+    s.settings.max_depth = 6;
+    s.settings.background = Background::Solid(Vec3::ZERO);
+    s
+}
+
+#[test]
+fn many_lights_chosen_by_tree_by_power_and_by_path_tracing_agree() {
+    let scene = lamp_field(32, 64);
+    assert_eq!(
+        LightList::build(&scene, LightSelection::Tree)
+            .lights()
+            .len(),
+        64
+    );
+    let tree = |o: &mut RenderOptions| o.light_selection = LightSelection::Tree;
+    let (worst, power, by_tree) =
+        compare_options(&scene, |o| o.light_selection = LightSelection::Power, tree);
+    assert!(
+        worst < 5.0,
+        "tree vs power: a block differs by {worst:.2} standard errors"
+    );
+    assert!(
+        (power - by_tree).abs() < 0.03 * by_tree,
+        "image means {power} vs {by_tree}"
+    );
+    let (worst, path, by_tree) = compare_options(&scene, |o| o.light_sampling = false, tree);
+    assert!(
+        worst < 5.0,
+        "path vs tree: a block differs by {worst:.2} standard errors"
+    );
+    assert!(
+        (path - by_tree).abs() < 0.05 * by_tree,
+        "image means {path} vs {by_tree}"
+    );
 }

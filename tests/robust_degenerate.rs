@@ -15,7 +15,7 @@ use glam::Vec3;
 use rtlang::geometry::World;
 use rtlang::lang::{self, Options};
 use rtlang::picture::{compare, LinearImage};
-use rtlang::render::lights::LightList;
+use rtlang::render::lights::{LightList, LightSelection};
 use rtlang::render::{render, RenderOptions};
 use rtlang::sampling::{Sampler, SamplerKind};
 use rtlang::scene::Scene;
@@ -210,7 +210,10 @@ fn an_emissive_mesh_with_zero_area_faces_lights_like_the_mesh_without_them() {
         "light(rgb(3, 3, 3), two_sided: true)",
         "scale (1, 0.5, 1)  rotate (1, 0, 1) 20  translate (0, 0.3, 0)",
     );
-    let (clean_lights, lights) = (LightList::build(&clean), LightList::build(&degenerate));
+    let (clean_lights, lights) = (
+        LightList::build(&clean, LightSelection::Tree),
+        LightList::build(&degenerate, LightSelection::Tree),
+    );
     let (clean_lights, lights) = (&clean_lights, &lights);
     assert_eq!(clean_lights.lights().len(), FACES.len());
     // Exactly-zero areas are left out; the face that is collinear only up
@@ -228,7 +231,7 @@ fn an_emissive_mesh_with_zero_area_faces_lights_like_the_mesh_without_them() {
             -0.5 + (i % 7) as f32 * 0.01,
             (i % 41) as f32 * 0.1 - 2.0,
         );
-        if let Some(s) = lights.sample(p, &mut rng) {
+        if let Some(s) = lights.sample(p, Vec3::ZERO, &mut rng) {
             sampled += 1;
             assert!(
                 s.pdf.is_finite() && s.pdf > 0.0 && s.dir.is_finite() && s.dist.is_finite(),

@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 
 use rtlang::geometry::World;
 use rtlang::picture::{LogLogPlot, Series};
@@ -17,6 +17,8 @@ use rtlang::render::convergence::{study, throughput, Convergence, Method};
 use rtlang::render::raycast::{camera_rays, random_rays};
 use rtlang::render::RenderOptions;
 use rtlang::sampling::SamplerKind;
+
+use super::render::{SamplerArg, SelectionArg};
 
 /// Arguments of `rtlang bench`.
 #[derive(Args)]
@@ -51,9 +53,51 @@ pub struct BenchArgs {
     /// Plain path tracing for the throughput render.
     #[arg(long)]
     no_light_sampling: bool,
+    /// How light sampling chooses a light (throughput render and
+    /// reference).
+    #[arg(long, value_enum, default_value_t = SelectionArg::Tree)]
+    light_selection: SelectionArg,
+    /// The convergence study's methods, comma-separated: `path`, `nee`
+    /// (light tree), `nee-power` (power-proportional light choice),
+    /// `nee-adaptive`.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "path,nee,nee-adaptive"
+    )]
+    methods: Vec<MethodArg>,
+    /// The convergence study's samplers, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "independent,sobol"
+    )]
+    samplers: Vec<SamplerArg>,
     /// Scene parameter override `name=value` (repeatable).
     #[arg(short = 'D', value_parser = super::parse_define)]
     define: Vec<(String, String)>,
+}
+
+/// A method `--methods` names.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    Path,
+    Nee,
+    NeePower,
+    NeeAdaptive,
+}
+
+impl From<MethodArg> for Method {
+    fn from(a: MethodArg) -> Method {
+        match a {
+            MethodArg::Path => Method::Path,
+            MethodArg::Nee => Method::Nee,
+            MethodArg::NeePower => Method::NeePower,
+            MethodArg::NeeAdaptive => Method::NeeAdaptive,
+        }
+    }
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -82,6 +126,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
     options.spp = args.spp.unwrap_or(options.spp);
     options.max_depth = args.max_depth.unwrap_or(options.max_depth);
     options.light_sampling = !args.no_light_sampling;
+    options.light_selection = args.light_selection.into();
     if let Err(e) = options.region() {
         return fail(e);
     }
@@ -141,8 +186,15 @@ fn convergence(
     world: &World,
     options: &RenderOptions,
 ) -> ExitCode {
-    let methods = [Method::Path, Method::Nee, Method::NeeAdaptive];
-    let samplers = [SamplerKind::Independent, SamplerKind::Sobol];
+    let methods: Vec<Method> = args.methods.iter().map(|&m| m.into()).collect();
+    let samplers: Vec<SamplerKind> = args
+        .samplers
+        .iter()
+        .map(|s| match s {
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
+        })
+        .collect();
     let result = match study(
         scene,
         world,
@@ -170,30 +222,20 @@ fn convergence(
         result.markdown()
     );
     let (ind, sob) = (SamplerKind::Independent, SamplerKind::Sobol);
-    for &spp in &args.spps {
-        if let (Some(i), Some(s)) = (
-            result.rel_mse_at_spp(Method::Nee, ind, spp),
-            result.rel_mse_at_spp(Method::Nee, sob, spp),
-        ) {
-            table += &format!(
-                "\nnee at {spp} spp: relMSE sobol / independent = {:.2}×",
-                s / i
-            );
-        }
-    }
-    let last = result
-        .series(Method::Nee, ind)
-        .map(|m| m.wall.as_secs_f64())
-        .fold(0.0f64, f64::max);
-    if let (Some(i), Some(s)) = (
-        result.rel_mse_at(Method::Nee, ind, last),
-        result.rel_mse_at(Method::Nee, sob, last),
-    ) {
-        table += &format!(
-            "\n\nAt equal time ({last:.2} s), nee: error × time sobol / independent = {:.2}×\n",
-            s / i
-        );
-    }
+    table += &ratios(
+        &result,
+        &args.spps,
+        (Method::Nee, sob),
+        (Method::Nee, ind),
+        "sobol / independent",
+    );
+    table += &ratios(
+        &result,
+        &args.spps,
+        (Method::Nee, sob),
+        (Method::NeePower, sob),
+        "tree / power",
+    );
     let md = args.out.join(format!("{name}-convergence.md"));
     let svg = args.out.join(format!("{name}-convergence.svg"));
     if let Err(e) = std::fs::write(&md, &table) {
@@ -205,6 +247,41 @@ fn convergence(
     out!("{table}");
     errln!("wrote {} and {}", md.display(), svg.display());
     ExitCode::SUCCESS
+}
+
+/// Light sampling by `a` (method, sampler) against `b`, named `label`:
+/// the ratio of relative MSEs at each spp and at `b`'s longest time, if
+/// both were measured.
+fn ratios(
+    result: &Convergence,
+    spps: &[u32],
+    a: (Method, SamplerKind),
+    b: (Method, SamplerKind),
+    label: &str,
+) -> String {
+    let mut s = String::new();
+    for &spp in spps {
+        if let (Some(x), Some(y)) = (
+            result.rel_mse_at_spp(a.0, a.1, spp),
+            result.rel_mse_at_spp(b.0, b.1, spp),
+        ) {
+            s += &format!("\nnee at {spp} spp: relMSE {label} = {:.2}×", x / y);
+        }
+    }
+    let last = result
+        .series(b.0, b.1)
+        .map(|m| m.wall.as_secs_f64())
+        .fold(0.0f64, f64::max);
+    if let (Some(x), Some(y)) = (
+        result.rel_mse_at(a.0, a.1, last),
+        result.rel_mse_at(b.0, b.1, last),
+    ) {
+        s += &format!(
+            "\n\nAt equal time ({last:.2} s), nee: error × time {label} = {:.2}×\n",
+            x / y
+        );
+    }
+    s
 }
 
 /// A log-log plot of relative MSE against seconds, one line per method and

@@ -15,6 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use rtlang::geometry::World;
 use rtlang::render::checkpoint::{self, Header};
+use rtlang::render::lights::LightSelection;
 use rtlang::render::output::{write_image, Format};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
@@ -113,6 +114,11 @@ pub struct RenderArgs {
     /// independent random numbers.
     #[arg(long, value_enum, default_value_t = SamplerArg::Sobol)]
     sampler: SamplerArg,
+    /// How light sampling chooses a light: `tree` (default) descends a
+    /// light BVH towards lights that can reach the point; `power` picks in
+    /// proportion to power alone.
+    #[arg(long, value_enum, default_value_t = SelectionArg::Tree)]
+    light_selection: SelectionArg,
     /// Cap each sample's radiance at this value (removes fireflies; biased).
     #[arg(long)]
     clamp: Option<f32>,
@@ -142,6 +148,24 @@ pub enum SamplerArg {
     Sobol,
     /// Independent PCG32 random numbers.
     Independent,
+}
+
+/// The light selection `--light-selection` names.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SelectionArg {
+    /// In proportion to power.
+    Power,
+    /// By the light tree.
+    Tree,
+}
+
+impl From<SelectionArg> for LightSelection {
+    fn from(a: SelectionArg) -> LightSelection {
+        match a {
+            SelectionArg::Power => LightSelection::Power,
+            SelectionArg::Tree => LightSelection::Tree,
+        }
+    }
 }
 
 fn parse_duration(s: &str) -> Result<Duration, String> {
@@ -424,6 +448,7 @@ fn options_for(
         SamplerArg::Sobol => SamplerKind::Sobol,
         SamplerArg::Independent => SamplerKind::Independent,
     };
+    options.light_selection = args.light_selection.into();
     options.clamp = args.clamp;
     options.noise = args.noise;
     if args.time.is_some() {

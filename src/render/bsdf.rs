@@ -84,6 +84,20 @@ impl Bsdf {
         !self.is_specular() && !matches!(self, Bsdf::Emitter { .. })
     }
 
+    /// The normal bounding the directions light can scatter in from: the
+    /// shading normal of a surface, zero for a phase function (light from
+    /// every side). Light selection uses it to skip lights behind a surface.
+    #[inline]
+    pub fn facing(&self) -> Vec3 {
+        match *self {
+            Bsdf::Lambertian { normal, .. }
+            | Bsdf::FuzzyMetal { normal, .. }
+            | Bsdf::Mirror { normal, .. }
+            | Bsdf::Dielectric { normal, .. } => normal,
+            Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => Vec3::ZERO,
+        }
+    }
+
     /// Samples `wi` with uniform numbers `u2` (direction) and `u1` (lobe
     /// choice or ball radius); `None` when the path is absorbed.
     #[inline]

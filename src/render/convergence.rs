@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use glam::Vec3;
 
+use super::lights::LightSelection;
 use super::options::RenderOptions;
 use super::tiles::{render, RenderError, RenderOutput};
 use crate::geometry::World;
@@ -20,8 +21,10 @@ use crate::scene::Scene;
 pub enum Method {
     /// Plain path tracing.
     Path,
-    /// Next-event estimation with MIS.
+    /// Next-event estimation with MIS, lights chosen by the light tree.
     Nee,
+    /// Next-event estimation with MIS, lights chosen by power.
+    NeePower,
     /// Light sampling with adaptive sampling: at a nominal `n` spp, pixels
     /// may trace up to `4n` samples and stop at relative error `1/√n`.
     NeeAdaptive,
@@ -32,6 +35,7 @@ impl Method {
         match self {
             Method::Path => "path",
             Method::Nee => "nee",
+            Method::NeePower => "nee, power",
             Method::NeeAdaptive => "nee+adaptive",
         }
     }
@@ -39,6 +43,10 @@ impl Method {
     /// Sets `options` for this method at a nominal `spp`.
     fn apply(self, options: &mut RenderOptions, spp: u32) {
         options.light_sampling = self != Method::Path;
+        options.light_selection = match self {
+            Method::NeePower => LightSelection::Power,
+            _ => LightSelection::Tree,
+        };
         options.spp = spp;
         options.noise = None;
         if self == Method::NeeAdaptive {

@@ -43,9 +43,10 @@ pub struct Tracer<'a> {
 enum Previous {
     /// A camera ray or a specular bounce: no light sampling competed.
     Specular,
-    /// A light-sampled scattering at `point` whose sampling density of the
-    /// direction (in solid angle) was `pdf`.
-    Scattered { point: Vec3, pdf: f32 },
+    /// A light-sampled scattering at `point` (surface normal `normal`, zero
+    /// in a medium) whose sampling density of the direction (in solid
+    /// angle) was `pdf`.
+    Scattered { point: Vec3, normal: Vec3, pdf: f32 },
 }
 
 /// The power heuristic weight of a strategy with density `a` against `b`,
@@ -99,12 +100,12 @@ impl Tracer<'_> {
             let emitted = bsdf.emitted();
             if emitted != Vec3::ZERO {
                 let weight = match previous {
-                    Previous::Scattered { point, pdf }
+                    Previous::Scattered { point, normal, pdf }
                         if nee && lights.is_sampled(hit.material) =>
                     {
                         power_heuristic(
                             pdf,
-                            lights.pdf(hit.material, point, hit.point, hit.geo_normal),
+                            lights.pdf(hit.material, point, normal, hit.point, hit.geo_normal),
                         )
                     }
                     _ => 1.0,
@@ -115,6 +116,7 @@ impl Tracer<'_> {
                 rays += self.direct(
                     lights,
                     &hit,
+                    bsdf.facing(),
                     ray.time,
                     sampler,
                     &mut media,
@@ -137,6 +139,7 @@ impl Tracer<'_> {
             } else {
                 Previous::Scattered {
                     point: hit.point,
+                    normal: bsdf.facing(),
                     pdf,
                 }
             };
@@ -154,7 +157,8 @@ impl Tracer<'_> {
         (radiance, rays)
     }
 
-    /// Next-event estimation at `hit`: samples a light point, and if
+    /// Next-event estimation at `hit` (whose normal for choosing a light is
+    /// `normal`, zero in a medium): samples a light point, and if
     /// `scatter(wi)` gives the scattering value (BSDF × cosine) and its own
     /// sampling density, traces a shadow ray and adds the weighted light.
     /// Returns the rays traced.
@@ -164,6 +168,7 @@ impl Tracer<'_> {
         &self,
         lights: &LightList,
         hit: &Hit,
+        normal: Vec3,
         time: f32,
         sampler: &mut Sampler,
         media: &mut MediumSegments,
@@ -172,7 +177,7 @@ impl Tracer<'_> {
         radiance: &mut Vec3,
     ) -> u32 {
         sampler.begin(Dim::Light);
-        let Some(s) = lights.sample(hit.point, sampler) else {
+        let Some(s) = lights.sample(hit.point, normal, sampler) else {
             return 0;
         };
         let Some((f, scatter_pdf)) = scatter(s.dir) else {

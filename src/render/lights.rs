@@ -13,7 +13,9 @@ use std::f32::consts::TAU;
 
 #[cfg(test)]
 use glam::Mat4;
-use glam::{Affine3A, Mat3A, Vec2, Vec3};
+use glam::{Affine3A, DVec3, Mat3A, Vec2, Vec3};
+
+use super::light_tree::{LightBounds, LightTree};
 
 use crate::geometry::ray::{gamma, SurfacePoint};
 use crate::geometry::shapes::triangle::unit_normal;
@@ -43,6 +45,60 @@ pub enum LightShape {
     },
 }
 
+impl Light {
+    /// The tree's bounds of this light emitting `power`.
+    fn bounds(&self, power: f64) -> LightBounds {
+        let (min, max, axis, cos_spread) = match self.shape {
+            LightShape::Parallelogram {
+                corner,
+                edges,
+                normal,
+            } => {
+                let c = [
+                    corner,
+                    corner + edges.0,
+                    corner + edges.1,
+                    corner + edges.0 + edges.1,
+                ];
+                let (min, max) = extremes(&c);
+                (min, max, normal, 1.0)
+            }
+            LightShape::Triangle { v, normal } => {
+                let (min, max) = extremes(&v);
+                (min, max, normal, 1.0)
+            }
+            LightShape::Sphere { center, radius } => {
+                let r = DVec3::splat(f64::from(radius));
+                let c = center.as_dvec3();
+                return LightBounds {
+                    min: c - r,
+                    max: c + r,
+                    power,
+                    axis: DVec3::Z,
+                    cos_spread: -1.0,
+                    two_sided: self.two_sided,
+                };
+            }
+        };
+        LightBounds {
+            min,
+            max,
+            power,
+            axis: axis.as_dvec3(),
+            cos_spread,
+            two_sided: self.two_sided,
+        }
+    }
+}
+
+/// The corners of the box around `points`.
+fn extremes(points: &[Vec3]) -> (DVec3, DVec3) {
+    points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p.as_dvec3()), hi.max(p.as_dvec3())),
+    )
+}
+
 impl LightShape {
     /// The area, in f64: an f32 cross product's length overflows for
     /// edges above about 4e9 units, and a sphere's area above a radius of
@@ -60,14 +116,60 @@ impl LightShape {
         }
     }
 
+    /// How far `x` is from the shape, relative to its size (0 on it).
+    fn miss(&self, x: DVec3) -> f64 {
+        // Coordinates (s, t) of x − origin on the edges a, b, by the Gram
+        // matrix; `inside` says how far out of the shape they are.
+        let on_plane = |origin: Vec3, a: Vec3, b: Vec3, inside: &dyn Fn(f64, f64) -> f64| {
+            let (a, b, d) = (a.as_dvec3(), b.as_dvec3(), x - origin.as_dvec3());
+            let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+            let det = aa * bb - ab * ab;
+            let (da, db) = (d.dot(a), d.dot(b));
+            let s = (bb * da - ab * db) / det;
+            let t = (aa * db - ab * da) / det;
+            let n = a.cross(b);
+            let height = n.dot(d).abs() / n.length() / (aa.max(bb)).sqrt();
+            inside(s, t).max(height)
+        };
+        match *self {
+            LightShape::Parallelogram { corner, edges, .. } => {
+                on_plane(corner, edges.0, edges.1, &|s, t| {
+                    0f64.max(-s).max(s - 1.0).max(-t).max(t - 1.0)
+                })
+            }
+            LightShape::Triangle { v, .. } => on_plane(v[0], v[1] - v[0], v[2] - v[0], &|s, t| {
+                0f64.max(-s).max(-t).max(s + t - 1.0)
+            }),
+            LightShape::Sphere { center, radius } => {
+                let r = f64::from(radius);
+                ((x - center.as_dvec3()).length() - r).abs() / r.max(1e-30)
+            }
+        }
+    }
+
     /// Whether the shape can be sampled: a positive, finite area and, if
     /// flat, a normal. A face of zero area in object space has no normal
     /// even when a transform's rounding leaves it a sliver of area; chosen,
-    /// it would emit nothing while taking a share of the selection.
+    /// it would emit nothing while taking a share of the selection. A face
+    /// whose corners are on one line up to rounding (area below 1e-5 of its
+    /// longest edge squared) is left out too: it would still take a leaf
+    /// of the light tree and reshape it. Left out, such a sliver is found
+    /// only by paths that hit it, with weight 1, which stays unbiased.
     fn is_sampleable(&self) -> bool {
+        let thin = |a: Vec3, b: Vec3| {
+            let (a, b) = (a.as_dvec3(), b.as_dvec3());
+            let longest = a
+                .length_squared()
+                .max(b.length_squared())
+                .max((a - b).length_squared());
+            a.cross(b).length() < 1e-5 * longest
+        };
         let facing = match *self {
-            LightShape::Parallelogram { normal, .. } | LightShape::Triangle { normal, .. } => {
-                normal != Vec3::ZERO
+            LightShape::Parallelogram { normal, edges, .. } => {
+                normal != Vec3::ZERO && !thin(edges.0, edges.1)
+            }
+            LightShape::Triangle { normal, v } => {
+                normal != Vec3::ZERO && !thin(v[1] - v[0], v[2] - v[0])
             }
             LightShape::Sphere { .. } => true,
         };
@@ -101,16 +203,54 @@ pub struct LightSample {
     pub target: SurfacePoint,
 }
 
-/// Every sampled light, with the cumulative selection weights.
+/// How next-event estimation chooses among the lights.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightSelection {
+    /// In proportion to power, wherever the shading point is.
+    Power,
+    /// By descending the light tree ([`LightTree`]): near lights that face
+    /// the point are likelier (the default).
+    #[default]
+    Tree,
+}
+
+impl LightSelection {
+    pub fn name(self) -> &'static str {
+        match self {
+            LightSelection::Power => "power",
+            LightSelection::Tree => "tree",
+        }
+    }
+}
+
+/// A sampled light with what its sampling needs, computed once per render:
+/// the reciprocal area and the power share, so a sample neither recomputes
+/// an area (in f64) nor searches a table when there is one light.
+#[derive(Clone, Copy, Debug)]
+struct Prepared {
+    light: Light,
+    /// 1 / area, in f64: the area of a huge light leaves f32's range.
+    inv_area: f64,
+    /// The probability of choosing this light by power.
+    power_share: f64,
+}
+
+/// Every sampled light, with the cumulative selection weights and the
+/// light tree.
 #[derive(Clone, Debug, Default)]
 pub struct LightList {
     lights: Vec<Light>,
+    prepared: Vec<Prepared>,
     /// Cumulative power (per-area weight × area), in f64 so that lights of
     /// any size f32 can place add up without overflow.
     cdf: Vec<f64>,
     total: f64,
-    /// Per material id: its per-area selection weight if it is sampled.
-    weight: Vec<Option<f32>>,
+    /// Per material id: whether its shapes are sampled.
+    sampled: Vec<bool>,
+    /// The hierarchy over `lights`, for tree selection and for finding the
+    /// light a path hit.
+    tree: LightTree,
+    selection: LightSelection,
 }
 
 struct Walker<'a> {
@@ -121,8 +261,8 @@ struct Walker<'a> {
 }
 
 impl LightList {
-    /// Gathers the lights of `scene`.
-    pub fn build(scene: &Scene) -> LightList {
+    /// Gathers the lights of `scene`, to be chosen by `selection`.
+    pub fn build(scene: &Scene, selection: LightSelection) -> LightList {
         let mut w = Walker {
             scene,
             found: Vec::new(),
@@ -150,8 +290,12 @@ impl LightList {
             .collect();
         let mut cdf = Vec::with_capacity(lights.len());
         let mut total = 0.0f64;
-        for l in &lights {
-            total += f64::from(weight[l.material.0 as usize].unwrap_or(0.0)) * l.shape.area();
+        let powers: Vec<f64> = lights
+            .iter()
+            .map(|l| f64::from(weight[l.material.0 as usize].unwrap_or(0.0)) * l.shape.area())
+            .collect();
+        for p in &powers {
+            total += p;
             cdf.push(total);
         }
         for (i, wgt) in weight.iter_mut().enumerate() {
@@ -159,19 +303,36 @@ impl LightList {
                 *wgt = None;
             }
         }
+        let prepared = lights
+            .iter()
+            .zip(&powers)
+            .map(|(l, p)| Prepared {
+                light: *l,
+                inv_area: l.shape.area().recip(),
+                power_share: p / total,
+            })
+            .collect();
+        let bounds: Vec<LightBounds> = lights
+            .iter()
+            .zip(&powers)
+            .map(|(l, p)| l.bounds(*p))
+            .collect();
         LightList {
+            tree: LightTree::build(&bounds),
             lights,
+            prepared,
             cdf,
             total,
-            weight,
+            sampled: weight.iter().map(Option::is_some).collect(),
+            selection,
         }
     }
 
     /// The lights a render samples: the scene's when light sampling is on,
     /// none otherwise (plain path tracing never asks).
-    pub fn for_render(scene: &Scene, light_sampling: bool) -> LightList {
+    pub fn for_render(scene: &Scene, light_sampling: bool, selection: LightSelection) -> LightList {
         if light_sampling {
-            LightList::build(scene)
+            LightList::build(scene, selection)
         } else {
             LightList::default()
         }
@@ -189,18 +350,36 @@ impl LightList {
     /// Whether next-event estimation can reach shapes of `material`.
     #[inline]
     pub fn is_sampled(&self, material: MaterialId) -> bool {
-        matches!(self.weight.get(material.0 as usize), Some(Some(_)))
+        self.sampled
+            .get(material.0 as usize)
+            .copied()
+            .unwrap_or(false)
     }
 
-    /// Samples a light point seen from `p`; `None` if there is no light or
-    /// the chosen point emits nothing towards `p`.
-    pub fn sample(&self, p: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
-        let last = self.lights.len().checked_sub(1)?;
-        let u = f64::from(sampler.next_1d()) * self.total;
-        let i = self.cdf.partition_point(|&c| c <= u).min(last);
-        let light = &self.lights[i];
-        let weight = f64::from(self.weight[light.material.0 as usize]?);
-        let select = (weight * light.shape.area() / self.total) as f32;
+    /// Samples a light point seen from `p` (surface normal `n`, zero in a
+    /// medium); `None` if there is no light or the chosen point emits
+    /// nothing towards `p`.
+    pub fn sample(&self, p: Vec3, n: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
+        let last = self.prepared.len().checked_sub(1)?;
+        let u = sampler.next_1d();
+        let (i, select) = if last == 0 {
+            (0, 1.0)
+        } else {
+            match self.selection {
+                LightSelection::Power => {
+                    let x = f64::from(u) * self.total;
+                    let i = self.cdf.partition_point(|&c| c <= x).min(last);
+                    (i, self.prepared[i].power_share)
+                }
+                LightSelection::Tree => {
+                    self.tree.sample(p.as_dvec3(), n.as_dvec3(), f64::from(u))?
+                }
+            }
+        };
+        let Prepared {
+            light, inv_area, ..
+        } = &self.prepared[i];
+        let select = select as f32;
         let Vec2 { x: u1, y: u2 } = sampler.next_2d();
         // Each arm bounds the error of `x` from the light's world-space
         // data, whose own rounding (the transform applied when the list was
@@ -225,7 +404,7 @@ impl LightList {
                     x,
                     error,
                     normal,
-                    area_to_solid_angle(light.shape.area().recip(), p, x, normal)?,
+                    area_to_solid_angle(*inv_area, p, x, normal)?,
                 )
             }
             LightShape::Triangle { v, normal } => {
@@ -236,7 +415,7 @@ impl LightList {
                     x,
                     error,
                     normal,
-                    area_to_solid_angle(light.shape.area().recip(), p, x, normal)?,
+                    area_to_solid_angle(*inv_area, p, x, normal)?,
                 )
             }
         };
@@ -259,30 +438,53 @@ impl LightList {
         })
     }
 
+    /// The probability of choosing light `i` from `p` (normal `n`).
+    fn select(&self, i: usize, p: Vec3, n: Vec3) -> f64 {
+        match self.selection {
+            _ if self.prepared.len() == 1 => 1.0,
+            LightSelection::Power => self.prepared.get(i).map_or(0.0, |l| l.power_share),
+            LightSelection::Tree => self.tree.probability(i, p.as_dvec3(), n.as_dvec3()),
+        }
+    }
+
+    /// The light of `material` whose surface holds the point `x` (a path's
+    /// hit), found through the tree's bounds.
+    fn light_at(&self, material: MaterialId, x: Vec3) -> Option<usize> {
+        if let [only] = self.lights.as_slice() {
+            return (only.material == material).then_some(0);
+        }
+        let x = x.as_dvec3();
+        let mut best: Option<(f64, usize)> = None;
+        self.tree.near(x, |i| {
+            let l = &self.lights[i];
+            if l.material != material {
+                return;
+            }
+            let miss = l.shape.miss(x);
+            if miss <= 1e-3 && best.is_none_or(|(m, _)| miss < m) {
+                best = Some((miss, i));
+            }
+        });
+        best.map(|(_, i)| i)
+    }
+
     /// The solid-angle density with which [`LightList::sample`] from `p`
-    /// picks the point `x` (normal `n`) of a light of `material`.
-    pub fn pdf(&self, material: MaterialId, p: Vec3, x: Vec3, n: Vec3) -> f32 {
-        let Some(Some(w)) = self.weight.get(material.0 as usize) else {
+    /// (normal `n_p`) picks the point `x` (normal `n`) of a light of
+    /// `material`.
+    pub fn pdf(&self, material: MaterialId, p: Vec3, n_p: Vec3, x: Vec3, n: Vec3) -> f32 {
+        if !self.is_sampled(material) {
+            return 0.0;
+        }
+        let Some(i) = self.light_at(material, x) else {
             return 0.0;
         };
-        let sphere = self
-            .lights
-            .iter()
-            .filter(|l| l.material == material)
-            .filter_map(|l| match l.shape {
-                LightShape::Sphere { center, radius } => {
-                    let miss = ((x - center).as_dvec3().length() - f64::from(radius)).abs();
-                    (miss <= 1e-3 * f64::from(radius.max(1e-3))).then_some((center, radius))
-                }
-                _ => None,
-            })
-            .next();
-        match sphere {
-            Some((center, radius)) => {
-                let select = (f64::from(*w) * sphere_area(radius) / self.total) as f32;
-                select * sphere_pdf(center, radius, p, x)
+        let select = self.select(i, p, n_p);
+        let l = &self.prepared[i];
+        match l.light.shape {
+            LightShape::Sphere { center, radius } => {
+                select as f32 * sphere_pdf(center, radius, p, x)
             }
-            None => area_to_solid_angle(f64::from(*w) / self.total, p, x, n).unwrap_or(0.0),
+            _ => area_to_solid_angle(select * l.inv_area, p, x, n).unwrap_or(0.0),
         }
     }
 }
@@ -300,10 +502,22 @@ fn sphere_area(radius: f32) -> f64 {
 }
 
 /// Converts an area density at `x` (normal `n`) to solid angle seen from
-/// `p`, in f64: a huge light's per-area density and the squared distance
-/// to it are out of f32's range even where their product is not.
+/// `p`: pdf_area · d² / cos = pdf_area · d³ / |n·(x − p)|. In f32 (one square
+/// root and one division on the hot path) when every factor stays in f32's
+/// normal range, else in f64: a huge light's per-area density and the
+/// squared distance to it are out of f32's range even where their product
+/// is not.
 fn area_to_solid_angle(pdf_area: f64, p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
-    let to = (x - p).as_dvec3();
+    let to = x - p;
+    let d2 = to.length_squared();
+    let d = d2.sqrt();
+    let cos_d = n.dot(to).abs();
+    let a = pdf_area as f32;
+    let fast = a * d2 * d / cos_d;
+    if a >= f32::MIN_POSITIVE && d2 >= f32::MIN_POSITIVE && fast.is_finite() {
+        return (cos_d > 1e-7 * d).then_some(fast);
+    }
+    let to = to.as_dvec3();
     let d2 = to.length_squared();
     let cos = (n.as_dvec3().dot(to) / d2.sqrt()).abs();
     (cos > 1e-7 && d2 > 0.0).then(|| (pdf_area * d2 / cos) as f32)
@@ -569,7 +783,7 @@ mod tests {
     #[test]
     fn the_cornell_lamp_is_one_downward_parallelogram() {
         let scene = cornell_box(16, 1);
-        let list = LightList::build(&scene);
+        let list = LightList::build(&scene, LightSelection::Tree);
         assert_eq!(list.lights().len(), 1);
         match list.lights()[0].shape {
             LightShape::Parallelogram { normal, .. } => {
@@ -609,9 +823,9 @@ mod tests {
         let n = 40_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
-            let s = list.sample(p, &mut rng).expect("visible");
+            let s = list.sample(p, Vec3::ZERO, &mut rng).expect("visible");
             let x = p + s.dir * s.dist;
-            let again = list.pdf(id, p, x, normal_at(x));
+            let again = list.pdf(id, p, Vec3::ZERO, x, normal_at(x));
             assert!(
                 (again - s.pdf).abs() <= 2e-3 * s.pdf,
                 "{again} vs {}",
@@ -634,7 +848,7 @@ mod tests {
             },
             Mat4::from_scale(Vec3::splat(scale)),
         );
-        let list = LightList::build(&scene);
+        let list = LightList::build(&scene, LightSelection::Tree);
         assert_eq!(
             list.lights().len(),
             1,
@@ -659,7 +873,7 @@ mod tests {
             },
             Mat4::from_scale(Vec3::splat(scale)),
         );
-        let list = LightList::build(&scene);
+        let list = LightList::build(&scene, LightSelection::Tree);
         assert_eq!(
             list.lights().len(),
             1,
@@ -706,18 +920,87 @@ mod tests {
             emit: crate::scene::TextureId(0),
             two_sided: false,
         };
-        let list = LightList::build(&one_sided);
+        let list = LightList::build(&one_sided, LightSelection::Tree);
         let mut rng = Sampler::for_sample(SamplerKind::Independent, 2, 0, 0, 0);
-        assert!(list.sample(Vec3::ZERO, &mut rng).is_none());
-        assert!(list.sample(Vec3::new(0.0, 0.0, 2.0), &mut rng).is_some());
+        assert!(list.sample(Vec3::ZERO, Vec3::ZERO, &mut rng).is_none());
+        assert!(list
+            .sample(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, &mut rng)
+            .is_some());
         let mut moving = scene;
         let child = moving.objects.remove(0);
         moving.objects.push(Node::Motion {
             motion: crate::scene::Motion::default(),
             child: Box::new(child),
         });
-        let list = LightList::build(&moving);
+        let list = LightList::build(&moving, LightSelection::Tree);
         assert!(list.is_empty());
         assert!(!list.is_sampled(MaterialId(0)));
+    }
+
+    /// Six rects facing down at different heights and three balls, all of
+    /// one light material, so the density of a hit must be found from its
+    /// position alone.
+    fn a_few_lamps() -> (Scene, MaterialId) {
+        let mut scene = Scene::default();
+        let t = scene.add_texture(Texture::Solid(Vec3::ONE));
+        let id = scene.add_material(Material::Light {
+            emit: t,
+            two_sided: false,
+        });
+        for k in 0..6 {
+            let (x, h) = (k as f32 - 2.5, 1.0 + 0.3 * k as f32);
+            scene.objects.push(Node::Flip(Box::new(Node::Shape {
+                shape: Shape::Rect {
+                    plane: RectPlane::Xz,
+                    a: (x - 0.2, x + 0.2),
+                    b: (-0.3, 0.3 + 0.1 * k as f32),
+                    k: h,
+                },
+                material: id,
+            })));
+        }
+        for k in 0..3 {
+            scene.objects.push(Node::Shape {
+                shape: Shape::Sphere {
+                    center: Vec3::new(2.0 * k as f32 - 2.0, 1.5, 2.0),
+                    radius: 0.1 + 0.1 * k as f32,
+                },
+                material: id,
+            });
+        }
+        (scene, id)
+    }
+
+    #[test]
+    fn with_many_lights_choices_sum_to_one_and_each_sample_density_is_found_again() {
+        let (scene, id) = a_few_lamps();
+        for selection in [LightSelection::Power, LightSelection::Tree] {
+            let list = LightList::build(&scene, selection);
+            assert_eq!(list.lights().len(), 9);
+            let mut rng = Sampler::for_sample(SamplerKind::Independent, 3, 0, 0, 0);
+            for (p, n) in [
+                (Vec3::ZERO, Vec3::Y),
+                (Vec3::new(1.7, 0.2, -0.5), Vec3::new(0.6, 0.8, 0.0)),
+                (Vec3::new(-0.5, 0.9, 1.0), Vec3::ZERO),
+            ] {
+                let sum: f64 = (0..9).map(|i| list.select(i, p, n)).sum();
+                assert!((sum - 1.0).abs() < 1e-6, "{selection:?}: {sum}");
+                let mut found = 0;
+                for _ in 0..4000 {
+                    let Some(s) = list.sample(p, n, &mut rng) else {
+                        continue;
+                    };
+                    let x = p + s.dir * s.dist;
+                    let again = list.pdf(id, p, n, x, s.target.normal);
+                    assert!(
+                        (again - s.pdf).abs() <= 2e-3 * s.pdf,
+                        "{selection:?} from {p}: {again} vs {}",
+                        s.pdf
+                    );
+                    found += 1;
+                }
+                assert!(found > 1000, "{found} samples");
+            }
+        }
     }
 }

@@ -1,6 +1,7 @@
 //! What to render: image size, samples, depth, seed, threads and crop, with
 //! the scene's settings as defaults.
 
+use super::lights::LightSelection;
 use crate::sampling::SamplerKind;
 use crate::scene::Settings;
 
@@ -39,6 +40,8 @@ pub struct RenderOptions {
     /// Next-event estimation with multiple importance sampling (on by
     /// default); off gives plain path tracing.
     pub light_sampling: bool,
+    /// How light sampling chooses a light (the light tree by default).
+    pub light_selection: LightSelection,
     /// Caps each sample's radiance at this maximum component (biased; off by
     /// default).
     pub clamp: Option<f32>,
@@ -119,6 +122,7 @@ impl RenderOptions {
             threads: None,
             crop: None,
             light_sampling: true,
+            light_selection: LightSelection::default(),
             clamp: None,
             noise: None,
             sample_offset: 0,

@@ -51,7 +51,7 @@ pub fn estimate(
     samples: u32,
 ) -> PixelEstimate {
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
-    let lights = LightList::for_render(scene, options.light_sampling);
+    let lights = LightList::for_render(scene, options.light_sampling, options.light_selection);
     let tracer = Tracer {
         scene,
         world,

@@ -123,7 +123,7 @@ pub fn render_film(
     let start = Instant::now();
     let tiles = tiles_of(region);
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
-    let lights = LightList::for_render(scene, options.light_sampling);
+    let lights = LightList::for_render(scene, options.light_sampling, options.light_selection);
     let tracer = Tracer {
         scene,
         world,
