@@ -28,18 +28,19 @@ const KNOWN_POOR: &[(&str, &str)] = &[
 
 #[test]
 fn every_wrong_scene_is_reported_at_its_cause() {
-    check_corpus("tests/wrong", 40);
+    check_corpus("tests/wrong", 40, false);
 }
 
 /// The fresh set of issue 15 item 9: mistakes of a POV-Ray or pbrt user
 /// (units, braces, property names, types, functions, includes).
 #[test]
 fn every_fresh_wrong_scene_is_reported_at_its_cause() {
-    check_corpus("tests/wrong_fresh", 40);
+    check_corpus("tests/wrong_fresh", 40, true);
 }
 
-/// Checks every `.rt` file of `dir` (at least `min`) against its header.
-fn check_corpus(dir: &str, min: usize) {
+/// Checks every `.rt` file of `dir` (at least `min`) against its header;
+/// with `snapshot`, also keeps each file's rendered diagnostics as a snapshot.
+fn check_corpus(dir: &str, min: usize, snapshot: bool) {
     let mut files: Vec<_> = std::fs::read_dir(dir)
         .expect("the corpus directory")
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -71,6 +72,18 @@ fn check_corpus(dir: &str, min: usize) {
             (d.code.as_str(), at.unwrap_or_default())
         });
         checked += 1;
+        if snapshot {
+            let shown: Vec<String> = outcome
+                .diagnostics
+                .iter()
+                .map(|d| render_plain(&d.to_report(&outcome.sources), 90))
+                .collect();
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or_default();
+            insta::assert_snapshot!(format!("fresh_{stem}"), shown.join("\n"));
+        }
         let right = got.as_ref().map(|(c, p)| (*c, p.as_str())) == Some((code, place));
         let file_name = path
             .file_name()
