@@ -13,10 +13,6 @@ use rtlang::lang::{self, diagnostics::render_plain, Options};
 /// why. The test fails if one of them starts passing, so the list stays true.
 const KNOWN_POOR: &[(&str, &str)] = &[
     (
-        "include_obj.rt",
-        "including an OBJ file parses it as a scene: \"expected a keyword\" in the OBJ",
-    ),
-    (
         "dielectric_keyword.rt",
         "`dielectric(ior: 1.5)` says \"takes 1 positional argument, 0 given\", not that `ior` is positional",
     ),
