@@ -11,11 +11,33 @@ use rtlang::lang::{self, diagnostics::render_plain, Options};
 
 /// Files whose first error is known NOT to be at the real cause yet, with
 /// why. The test fails if one of them starts passing, so the list stays true.
-const KNOWN_POOR: &[(&str, &str)] = &[];
+const KNOWN_POOR: &[(&str, &str)] = &[
+    (
+        "dielectric_keyword.rt",
+        "`dielectric(ior: 1.5)` says \"takes 1 positional argument, 0 given\", not that `ior` is positional",
+    ),
+    (
+        "rotate_swapped.rt",
+        "`rotate 45 y` says \"expected a 3-vector, found a number\" instead of \"the axis comes first\"",
+    ),
+];
 
 #[test]
 fn every_wrong_scene_is_reported_at_its_cause() {
-    let mut files: Vec<_> = std::fs::read_dir("tests/wrong")
+    check_corpus("tests/wrong", 40, false);
+}
+
+/// The fresh set of issue 15 item 9: mistakes of a POV-Ray or pbrt user
+/// (units, braces, property names, types, functions, includes).
+#[test]
+fn every_fresh_wrong_scene_is_reported_at_its_cause() {
+    check_corpus("tests/wrong_fresh", 40, true);
+}
+
+/// Checks every `.rt` file of `dir` (at least `min`) against its header;
+/// with `snapshot`, also keeps each file's rendered diagnostics as a snapshot.
+fn check_corpus(dir: &str, min: usize, snapshot: bool) {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
         .expect("the corpus directory")
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "rt"))
@@ -46,6 +68,18 @@ fn every_wrong_scene_is_reported_at_its_cause() {
             (d.code.as_str(), at.unwrap_or_default())
         });
         checked += 1;
+        if snapshot {
+            let shown: Vec<String> = outcome
+                .diagnostics
+                .iter()
+                .map(|d| render_plain(&d.to_report(&outcome.sources), 90))
+                .collect();
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or_default();
+            insta::assert_snapshot!(format!("fresh_{stem}"), shown.join("\n"));
+        }
         let right = got.as_ref().map(|(c, p)| (*c, p.as_str())) == Some((code, place));
         let file_name = path
             .file_name()
@@ -71,7 +105,7 @@ fn every_wrong_scene_is_reported_at_its_cause() {
             ));
         }
     }
-    assert!(checked >= 40, "only {checked} wrong scenes");
+    assert!(checked >= min, "only {checked} wrong scenes");
     assert!(
         wrong.is_empty(),
         "{} of {checked}:\n{}",

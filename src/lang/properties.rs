@@ -58,6 +58,13 @@ macro_rules! block {
     };
 }
 
+/// Words other renderers use for what `material` sets (POV-Ray's `pigment`
+/// and `finish`, pbrt's `albedo`, ...): an unknown property spelt so is the
+/// user's `material`.
+pub const MATERIAL_ALIASES: &[&str] = &[
+    "color", "colour", "texture", "pigment", "finish", "albedo", "surface", "bsdf",
+];
+
 /// `material`, which every shape takes.
 pub const MATERIAL: Prop = prop(
     "material",

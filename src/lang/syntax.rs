@@ -393,6 +393,31 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
     let span = Span::new(file, at, at + 1);
     let head = text[..prev_start].trim_end_matches([' ', '\t']);
     let starts_line = head.is_empty() || head.ends_with(['\n', '{']);
+    // `Shape "sphere"`, `for i in ...`: a word that begins no statement.
+    if let Some(end) = word_at(at) {
+        let w = &text[at..end];
+        let line_head = text[..at].trim_end_matches([' ', '\t']);
+        if !names::is_keyword(w) && (line_head.is_empty() || line_head.ends_with('\n')) {
+            let help = match w {
+                "for" | "while" => "loops are written `repeat i in 0..10 { ... }`".to_string(),
+                _ => match names::suggest(&w.to_lowercase(), OBJECTS.iter().copied()) {
+                    Some(s) => format!("did you mean `{s} {{ ... }}`?"),
+                    None => "a statement begins with `let`, `param`, `fn`, `include`, `render`, \
+                             `camera`, `place` or an object keyword"
+                        .to_string(),
+                },
+            };
+            return Some(
+                Diagnostic::error(
+                    Code::Syntax,
+                    Span::new(file, at, end),
+                    format!("`{w}` does not begin a statement"),
+                )
+                .label("not a statement")
+                .help(help),
+            );
+        }
+    }
     match c {
         b'=' | b':' if starts_line && !prev.is_empty() && bytes.get(at + 1) != Some(&b'=') => {
             let value = text[at + 1..].lines().next().unwrap_or("").trim();
@@ -408,6 +433,32 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
                 )),
             )
         }
+        b',' if prev.bytes().all(|b| b.is_ascii_digit() || b == b'.')
+            && !prev.is_empty()
+            && [
+                "translate",
+                "scale",
+                "center",
+                "from",
+                "at",
+                "min",
+                "max",
+                "normal",
+            ]
+            .iter()
+            .any(|k| head.trim_end_matches('-').trim_end().ends_with(k)) =>
+        {
+            Some(
+                Diagnostic::error(Code::Syntax, span, "a vector without its parentheses")
+                    .label("`,` outside a vector")
+                    .help("write vectors in parentheses: `(x, y, z)`"),
+            )
+        }
+        b'<' => Some(
+            Diagnostic::error(Code::Syntax, span, "unexpected `<`")
+                .label("not a vector bracket")
+                .help("vectors are written `(x, y, z)`, not POV-Ray's `<x, y, z>`"),
+        ),
         b',' => Some(
             Diagnostic::error(Code::Syntax, span, "unexpected `,`")
                 .label("not a separator here")

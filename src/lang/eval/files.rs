@@ -68,6 +68,29 @@ impl Evaluator {
             if seen.contains(&key) {
                 return;
             }
+            let ext = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .unwrap_or_default();
+            let help = match ext.to_ascii_lowercase().as_str() {
+                "obj" => Some("load a mesh with `mesh \"file.obj\" { material ... }`"),
+                "png" | "jpg" | "jpeg" | "hdr" | "exr" => {
+                    Some("use an image as a texture with `image(\"file.png\")`")
+                }
+                _ => None,
+            };
+            if let Some(help) = help {
+                self.report(
+                    Diagnostic::error(
+                        Code::FileType,
+                        span,
+                        format!("`include` reads scene files, not `.{ext}` files"),
+                    )
+                    .label("not a scene")
+                    .help(help),
+                );
+                return;
+            }
         }
         let Some(text) = self.read_source(path, from) else {
             return;

@@ -170,10 +170,13 @@ impl Evaluator {
     }
 
     fn missing(&mut self, o: &Object, name: &str, help: &str) -> Fail {
-        // A misspelt `name` is already reported as an unknown property.
+        // A misspelt `name`, or a material under another renderer's word
+        // (`color`), is already reported as an unknown property.
         let misspelt = o.body.iter().any(|s| {
             matches!(s, Stmt::Property { name: p, .. }
-                if crate::lang::names::suggest(&p.name, [name]).is_some())
+                if crate::lang::names::suggest(&p.name, [name]).is_some()
+                    || (name == "material"
+                        && properties::MATERIAL_ALIASES.contains(&p.name.as_str())))
         });
         if misspelt {
             return Fail;

@@ -129,16 +129,30 @@ impl Evaluator {
         if allow.shutter {
             known.push("shutter");
         }
-        let help = match names::suggest(&name.name, known.iter().copied()) {
-            Some(s) => format!("did you mean `{s}`?"),
-            None if known.is_empty() => format!("`{}` takes no properties", allow.what),
-            None => format!("`{}` knows: {}", allow.what, known.join(", ")),
+        let is_material = known.contains(&"material")
+            && crate::lang::properties::MATERIAL_ALIASES.contains(&name.name.as_str());
+        let special = if is_material {
+            Some("the surface is set with `material`, e.g. `material lambertian(rgb(1, 0, 0))`")
+        } else if name.name == "size" && allow.size {
+            Some("write the image size as `size WIDTH x HEIGHT`, e.g. `size 800 x 600`")
+        } else {
+            None
+        };
+        let help = match (special, names::suggest(&name.name, known.iter().copied())) {
+            (Some(h), _) => h.to_string(),
+            (None, Some(s)) => format!("did you mean `{s}`?"),
+            (None, None) if known.is_empty() => format!("`{}` takes no properties", allow.what),
+            (None, None) => format!("`{}` knows: {}", allow.what, known.join(", ")),
         };
         self.report(
             Diagnostic::error(
                 Code::UnknownProperty,
                 name.span,
-                format!("`{}` has no property `{}`", allow.what, name.name),
+                if name.name == "size" && allow.size {
+                    "`size` takes a width and a height: `size W x H`".to_string()
+                } else {
+                    format!("`{}` has no property `{}`", allow.what, name.name)
+                },
             )
             .label("unknown property")
             .help(help),
