@@ -28,7 +28,7 @@ pub enum ObjError {
     #[error("cannot parse `{path}`: {message}")]
     Parse { path: String, message: String },
     #[error("{path}:{}:{}: {}\n  {} | {}", .error.line, .error.column, .error.message, .error.line, .error.text)]
-    At { path: String, error: LineError },
+    At { path: String, error: Box<LineError> },
     #[error("`{path}` has no faces")]
     Empty { path: String },
     #[error("`{path}` has a vertex that is not a finite number")]
@@ -63,7 +63,10 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
         message: e.to_string(),
     })?;
     if let Some(error) = super::obj_lines::check(&bytes) {
-        return Err(ObjError::At { path: shown, error });
+        return Err(ObjError::At {
+            path: shown,
+            error: Box::new(error),
+        });
     }
     let options = tobj::LoadOptions {
         single_index: true,
