@@ -1,9 +1,12 @@
-//! The memory budget (issue 14 item 1): the largest scene of each kind that
-//! the estimate accepts under `--memory-budget` renders inside an address
-//! space of the budget plus a fixed allowance for the program itself (set
-//! with `prlimit --as`, so an estimate too low shows as an allocation
-//! failure), and one step more is refused before rendering, with the
-//! estimate and the budget in the message.
+//! The memory budget (issue 14 item 1): for every allocation whose size a
+//! scene controls (tessellated revolutions, analytic shells, `repeat`
+//! counts, media, meshes placed many times, light lists, texture images and
+//! the film), the largest scene that the estimate accepts under
+//! `--memory-budget` renders inside an address space of the budget plus a
+//! fixed allowance for the program itself (set with `prlimit --as`, so an
+//! estimate too low shows as an allocation failure), and one step more is
+//! refused before rendering, with the estimate and the budget in the
+//! message. Every scene's 8×8 image charges its film too.
 
 use std::process::{Command, Output};
 
@@ -20,28 +23,30 @@ const ALLOWANCE: u64 = 192 << 20;
 /// The estimate's figures (src/lang/eval/budget.rs, docs/language.md).
 const BYTES_PER_PRIMITIVE: f64 = 1024.0;
 const BYTES_PER_TRIANGLE: f64 = 400.0;
+const BYTES_PER_SHELL: f64 = 1024.0;
+const BYTES_PER_IMAGE_PIXEL: f64 = 32.0;
+const BYTES_PER_FILM_PIXEL: f64 = 128.0;
+/// The film of the tests' 8×8 image.
+const FILM: f64 = 64.0 * BYTES_PER_FILM_PIXEL;
 
 /// Renders `scene` (an 8×8 image, 1 sample, 1 thread) under the test budget
 /// and an address-space limit of budget + allowance.
 fn render_capped(name: &str, scene: &str) -> Output {
-    let dir = scratch::folder(&format!("memory-{name}"));
-    let path = scratch::write(&dir, "scene.rt", scene);
+    render_in(&scratch::folder(&format!("memory-{name}")), scene)
+}
+
+/// Renders `scene` as [`render_capped`] does, in `dir`.
+fn render_in(dir: &std::path::Path, scene: &str) -> Output {
+    let dir = dir.to_path_buf();
+    let size = if scene.contains("render {") { "" } else { SIZE };
+    let path = scratch::write(&dir, "scene.rt", &format!("{size}{scene}"));
     let limit = BUDGET as u64 + ALLOWANCE;
     Command::new("prlimit")
         .arg(format!("--as={limit}"))
         .arg(RTLANG)
         .args(["render", path.to_str().expect("utf-8 path")])
         .args(["-o", dir.join("out.png").to_str().expect("utf-8 path")])
-        .args([
-            "--width",
-            "8",
-            "--height",
-            "8",
-            "--spp",
-            "1",
-            "--threads",
-            "1",
-        ])
+        .args(["--spp", "1", "--threads", "1"])
         .args(["--quiet", "--memory-budget", BUDGET_GIB])
         .output()
         .expect("runs prlimit (util-linux)")
@@ -63,39 +68,153 @@ fn assert_refused(name: &str, out: &Output) {
     );
 }
 
+/// The tests' image size, unless a scene sets its own (the film test).
+const SIZE: &str = "render { size 8 x 8 }\n";
 const CAMERA: &str = "camera { from (0, 1, 5) at (0, 0.5, 0) }\n";
+const GREY: &str = "lambertian(rgb(0.5, 0.5, 0.5))";
 
-fn revolve(resolution: u64) -> String {
-    format!(
-        "{CAMERA}revolve bezier [(0.5, 0), (1.5, 0.5), (0.2, 1)] {{\n\
-         material lambertian(rgb(0.5, 0.5, 0.5))\n  mode mesh\n  resolution {resolution}\n}}\n"
-    )
+/// The most items of `bytes` each that fit the budget beside `others`.
+fn most(bytes: f64, others: f64) -> u64 {
+    ((BUDGET - others) / bytes).floor() as u64
 }
 
-fn spheres(count: u64) -> String {
+/// Renders the largest accepted `scene(n)` and refuses `scene(n + 1)`.
+fn largest_renders(name: &str, largest: u64, scene: impl Fn(u64) -> String) {
+    assert!(largest > 0, "{name}: nothing fits");
+    assert_rendered(name, &render_capped(name, &scene(largest)));
+    let over = format!("{name}-over");
+    assert_refused(name, &render_capped(&over, &scene(largest + 1)));
+}
+
+fn revolve(resolution: u64, mode: &str) -> String {
     format!(
-        "{CAMERA}repeat i in 0..{count} {{\n\
-         sphere {{ center (i * 1e-4, 0, 0) radius 0.5 material lambertian(rgb(0.5, 0.5, 0.5)) }}\n}}\n"
+        "revolve bezier [(0.5, 0), (1.5, 0.5), (0.2, 1)] {{\n\
+         material {GREY}\n  mode {mode}\n  resolution {resolution}\n}}\n"
     )
 }
 
 #[test]
 fn the_largest_accepted_tessellated_revolution_renders_under_its_budget() {
     // 2·r² triangles.
-    let largest = (BUDGET / (2.0 * BYTES_PER_TRIANGLE)).sqrt().floor() as u64;
-    assert_rendered("revolve", &render_capped("revolve", &revolve(largest)));
-    assert_refused(
-        "revolve",
-        &render_capped("revolve-over", &revolve(largest + 1)),
-    );
+    let largest = ((BUDGET - FILM) / (2.0 * BYTES_PER_TRIANGLE))
+        .sqrt()
+        .floor() as u64;
+    largest_renders("revolve", largest, |r| {
+        format!("{CAMERA}{}", revolve(r, "mesh"))
+    });
+}
+
+#[test]
+fn the_most_analytic_shells_accepted_render_under_their_budget() {
+    // The language allows 100000 pieces a revolution; copies reach the budget.
+    let each = 100_000.0 * BYTES_PER_SHELL + BYTES_PER_PRIMITIVE;
+    largest_renders("shells", most(each, FILM), |n| {
+        format!(
+            "{CAMERA}repeat i in 0..{n} {{\n{}}}\n",
+            revolve(100_000, "analytic")
+                .replace("resolution", "translate (i * 0.01, 0, 0)\n  resolution")
+        )
+    });
+}
+
+fn spheres(count: u64, material: &str) -> String {
+    format!(
+        "{CAMERA}repeat i in 0..{count} {{\n\
+         sphere {{ center (i * 1e-4, 0, 0) radius 0.5 material {material} }}\n}}\n"
+    )
 }
 
 #[test]
 fn the_largest_accepted_repeat_renders_under_its_budget() {
-    let largest = (BUDGET / BYTES_PER_PRIMITIVE).floor() as u64;
-    assert_rendered("repeat", &render_capped("repeat", &spheres(largest)));
-    assert_refused(
-        "repeat",
-        &render_capped("repeat-over", &spheres(largest + 1)),
-    );
+    let largest = most(BYTES_PER_PRIMITIVE, FILM);
+    largest_renders("repeat", largest, |n| spheres(n, GREY));
+}
+
+#[test]
+fn the_longest_accepted_light_list_renders_under_its_budget() {
+    // Every sphere emits: one light entry each, sampled (the default `nee`).
+    let largest = most(BYTES_PER_PRIMITIVE, FILM);
+    largest_renders("lights", largest, |n| spheres(n, "light(rgb(1, 1, 1))"));
+}
+
+#[test]
+fn the_most_accepted_media_render_under_their_budget() {
+    // The medium and its boundary are each charged as a primitive.
+    largest_renders("media", most(2.0 * BYTES_PER_PRIMITIVE, FILM), |n| {
+        format!(
+            "{CAMERA}repeat i in 0..{n} {{\n\
+             medium {{ boundary sphere {{ center (i * 1e-4, 0, 0) radius 0.5 }} density 0.1 color rgb(1, 1, 1) }}\n}}\n"
+        )
+    });
+}
+
+/// An OBJ strip of `2 · quads` triangles.
+fn strip(quads: u64) -> String {
+    let mut obj = String::new();
+    for i in 0..=quads {
+        let x = i as f64 / quads as f64;
+        obj += &format!("v {x} 0 0\nv {x} 1 0\n");
+    }
+    for i in 0..quads {
+        let a = 2 * i + 1;
+        obj += &format!(
+            "f {a} {} {}\nf {} {} {}\n",
+            a + 2,
+            a + 1,
+            a + 1,
+            a + 2,
+            a + 3
+        );
+    }
+    obj
+}
+
+#[test]
+fn the_most_accepted_emitting_mesh_copies_render_under_their_budget() {
+    // Each placement is charged its triangles, which also enter the light
+    // list one by one (the mesh emits).
+    const QUADS: u64 = 1000;
+    let dir = scratch::folder("memory-mesh");
+    let obj = scratch::write(&dir, "strip.obj", &strip(QUADS));
+    let each = 2.0 * QUADS as f64 * BYTES_PER_TRIANGLE;
+    let largest = most(each, FILM);
+    let scene = |n: u64| {
+        format!(
+            "{CAMERA}repeat i in 0..{n} {{\n\
+             mesh \"{}\" {{ material light(rgb(1, 1, 1)) translate (0, 0, -i * 1e-3) }}\n}}\n",
+            obj.display()
+        )
+    };
+    assert_rendered("mesh", &render_in(&dir, &scene(largest)));
+    assert_refused("mesh", &render_in(&dir, &scene(largest + 1)));
+}
+
+#[test]
+fn the_largest_accepted_texture_image_renders_under_its_budget() {
+    let dir = scratch::folder("memory-image");
+    let side = ((BUDGET - FILM - BYTES_PER_PRIMITIVE) / BYTES_PER_IMAGE_PIXEL)
+        .sqrt()
+        .floor() as u32;
+    let scene = |side: u32| {
+        let png = dir.join(format!("{side}.png"));
+        image::RgbImage::from_pixel(side, side, image::Rgb([90, 120, 200]))
+            .save(&png)
+            .expect("writes the texture");
+        format!(
+            "{CAMERA}rect xy {{ from (-1, 0) to (1, 2) at 0 material lambertian(image(\"{}\")) }}\n",
+            png.display()
+        )
+    };
+    assert_rendered("image", &render_in(&dir, &scene(side)));
+    assert_refused("image", &render_in(&dir, &scene(side + 1)));
+}
+
+#[test]
+fn the_largest_accepted_film_renders_under_its_budget() {
+    let side = ((BUDGET - BYTES_PER_PRIMITIVE) / BYTES_PER_FILM_PIXEL)
+        .sqrt()
+        .floor() as u64;
+    largest_renders("film", side, |w| {
+        format!("render {{ size {w} x {w} }}\n{CAMERA}sphere {{ radius 0.5 material {GREY} }}\n")
+    });
 }

@@ -49,6 +49,13 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 impl ImageData {
     /// Loads a PNG or JPEG file (any format the `image` crate reads) and
     /// decodes its sRGB values to linear RGB.
+    /// The width and height of the image file at `path`, read from its
+    /// header without decoding it; `None` when the header is unreadable
+    /// (loading then reports why).
+    pub fn dimensions(path: &Path) -> Option<(u32, u32)> {
+        image::image_dimensions(path).ok()
+    }
+
     pub fn load(path: &Path) -> Result<ImageData, ImageLoadError> {
         let shown = path.display().to_string();
         let bytes = std::fs::read(path).map_err(|source| ImageLoadError::Io {

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use super::mesh::{MeshMaterial, MeshMaterialKind};
+use super::obj_lines::LineError;
 use super::MeshData;
 
 /// A loaded mesh with the non-fatal problems found while loading it
@@ -26,14 +27,8 @@ pub enum ObjError {
     Io { path: String, message: String },
     #[error("cannot parse `{path}`: {message}")]
     Parse { path: String, message: String },
-    #[error("{path}:{line}:{column}: {message}\n  {line} | {text}")]
-    At {
-        path: String,
-        line: usize,
-        column: usize,
-        text: String,
-        message: String,
-    },
+    #[error("{path}:{}:{}: {}\n  {} | {}", .error.line, .error.column, .error.message, .error.line, .error.text)]
+    At { path: String, error: Box<LineError> },
     #[error("`{path}` has no faces")]
     Empty { path: String },
     #[error("`{path}` has a vertex that is not a finite number")]
@@ -67,13 +62,10 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
         path: shown.clone(),
         message: e.to_string(),
     })?;
-    if let Some(e) = super::obj_lines::check(&bytes) {
+    if let Some(error) = super::obj_lines::check(&bytes) {
         return Err(ObjError::At {
             path: shown,
-            line: e.line,
-            column: e.column,
-            text: e.text,
-            message: e.message,
+            error: Box::new(error),
         });
     }
     let options = tobj::LoadOptions {

@@ -1,29 +1,74 @@
 //! A pre-pass over an OBJ file's text that tobj cannot give: every problem
-//! it finds is placed at a line and column, with the line's text. It checks
-//! that the file is text, and that every face index refers to a position,
-//! texture coordinate or normal defined before it (1-based, or negative
-//! from the last one); tobj then parses what passed. (`scene::obj` runs it.)
+//! it finds is placed at a line and a column range, with the line's text. It
+//! checks that the file is text; that `v`, `vt` and `vn` lines hold the
+//! finite numbers tobj reads (within the coordinate limit); and that every
+//! face has three vertices whose indices refer to a position, texture
+//! coordinate or normal defined before it (1-based, or negative from the
+//! last one). tobj then parses what passed. (`scene::obj` runs it.)
+
+use super::object::MAX_COORDINATE;
 
 /// One problem at a place in the file.
-#[derive(Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LineError {
-    /// 1-based line and column (in characters).
+    /// 1-based line and column (in characters) of the problem's start.
     pub line: usize,
     pub column: usize,
-    /// The line as written (lossily decoded when it is not UTF-8).
+    /// How many characters of the line the problem covers (at least 1).
+    pub width: usize,
+    /// The line as shown: lossily decoded when it is not UTF-8, control
+    /// characters replaced, and cut a little after the problem when long.
     pub text: String,
+    /// The line before it, shown the same way, for context.
+    pub previous: String,
+    /// What is wrong, and the short label under the offending text.
     pub message: String,
+    pub label: String,
+}
+
+/// The most characters of a line shown after the problem's start.
+const SHOWN_AFTER: usize = 60;
+
+impl LineError {
+    /// The file as a diagnostic shows it: one empty line for each line
+    /// before the problem but the last (so line numbers stay true without
+    /// keeping the file's text), the line before and the shown line; and
+    /// the byte range of the problem in that text.
+    pub fn excerpt(&self) -> (String, std::ops::Range<usize>) {
+        let mut text = "\n".repeat(self.line.saturating_sub(2));
+        if self.line > 1 {
+            text.push_str(&self.previous);
+            text.push('\n');
+        }
+        let byte = |column: usize| {
+            self.text
+                .char_indices()
+                .nth(column)
+                .map_or(self.text.len(), |(i, _)| i)
+        };
+        let start = text.len() + byte(self.column - 1);
+        let end = text.len() + byte(self.column - 1 + self.width);
+        text.push_str(&self.text);
+        text.push('\n');
+        (text, start..end.max(start))
+    }
 }
 
 /// The first problem of `bytes`, an OBJ file's content, if any.
 pub fn check(bytes: &[u8]) -> Option<LineError> {
     let mut counts = [0usize; 3]; // v, vt, vn
+    let mut previous: &[u8] = &[];
     for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
-        let at = |column: usize, message: String| LineError {
+        let lossy = String::from_utf8_lossy(raw);
+        let before = std::mem::replace(&mut previous, raw);
+        let at = |column: usize, width: usize, message: String, label: &str| LineError {
             line: i + 1,
             column,
-            text: String::from_utf8_lossy(raw).trim_end().to_string(),
+            width: width.max(1),
+            text: shown(&lossy, column),
+            previous: shown(&String::from_utf8_lossy(before), 1),
             message,
+            label: label.into(),
         };
         let line = match std::str::from_utf8(raw) {
             Ok(line) if !line.contains('\0') => line,
@@ -31,7 +76,9 @@ pub fn check(bytes: &[u8]) -> Option<LineError> {
                 let column = line.chars().take_while(|&c| c != '\0').count() + 1;
                 return Some(at(
                     column,
+                    1,
                     "a NUL byte: this is a binary file, not OBJ text".into(),
+                    "binary data",
                 ));
             }
             Err(e) => {
@@ -41,53 +88,198 @@ pub fn check(bytes: &[u8]) -> Option<LineError> {
                     + 1;
                 return Some(at(
                     column,
+                    1,
                     "bytes that are not UTF-8 text: this is not an OBJ file".into(),
+                    "not text",
                 ));
             }
         };
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => counts[0] += 1,
-            Some("vt") => counts[1] += 1,
-            Some("vn") => counts[2] += 1,
-            Some("f") => {
-                for word in words {
-                    let column = line[..word.as_ptr() as usize - line.as_ptr() as usize]
-                        .chars()
-                        .count()
-                        + 1;
-                    if let Some(message) = face_vertex(word, counts) {
-                        return Some(at(column, message));
-                    }
-                }
-            }
+        let words: Vec<(usize, &str)> = line
+            .split_whitespace()
+            .map(|w| (column_of(line, w), w))
+            .collect();
+        let Some(&(_, keyword)) = words.first() else {
+            continue;
+        };
+        let args = &words[1..];
+        let end = line.trim_end().chars().count() + 1;
+        let problem = match keyword {
+            "v" => numbers(args, &[3, 4, 6], "a position `v x y z`", end)
+                .or_else(|| beyond_limit(&args[..args.len().min(3)])),
+            "vt" => numbers(args, &[2, 3], "a texture coordinate `vt u v`", end),
+            "vn" => numbers(args, &[3], "a normal `vn x y z`", end),
+            "f" => face(args, counts, end),
+            _ => None,
+        };
+        if let Some((column, width, message, label)) = problem {
+            return Some(at(column, width, message, label));
+        }
+        match keyword {
+            "v" => counts[0] += 1,
+            "vt" => counts[1] += 1,
+            "vn" => counts[2] += 1,
             _ => {}
         }
     }
     None
 }
 
+/// A problem: column, width, message and label.
+type Problem = (usize, usize, String, &'static str);
+
+/// The 1-based column (in characters) where `word`, a slice of `line`, starts.
+fn column_of(line: &str, word: &str) -> usize {
+    line[..word.as_ptr() as usize - line.as_ptr() as usize]
+        .chars()
+        .count()
+        + 1
+}
+
+/// `line` from its start to a little after `column`, with control
+/// characters (other than tabs) replaced so a binary line shows safely.
+fn shown(line: &str, column: usize) -> String {
+    let line = line.trim_end();
+    let mut text: String = line
+        .chars()
+        .take(column + SHOWN_AFTER)
+        .map(|c| {
+            if c.is_control() && c != '\t' {
+                char::REPLACEMENT_CHARACTER
+            } else {
+                c
+            }
+        })
+        .collect();
+    if line.chars().count() > column + SHOWN_AFTER {
+        text.push('…');
+    }
+    text
+}
+
+/// What is wrong with the numbers of a `v`, `vt` or `vn` line, which must
+/// have one of the `allowed` counts of finite numbers (`end` is the column
+/// after the line's text).
+fn numbers(args: &[(usize, &str)], allowed: &[usize], what: &str, end: usize) -> Option<Problem> {
+    for &(column, word) in args {
+        let width = word.chars().count();
+        match word.parse::<f32>() {
+            Err(_) => {
+                return Some((
+                    column,
+                    width,
+                    format!("`{word}` is not a number, in {what}"),
+                    "not a number",
+                ))
+            }
+            Ok(x) if !x.is_finite() => {
+                return Some((
+                    column,
+                    width,
+                    format!("`{word}` is not a finite number, in {what}"),
+                    "not finite",
+                ))
+            }
+            Ok(_) => {}
+        }
+    }
+    if allowed.contains(&args.len()) {
+        if args.len() == 4 && args[3].1.parse::<f32>() == Ok(0.0) {
+            let (column, word) = args[3];
+            return Some((
+                column,
+                word.chars().count(),
+                "a position's weight `w` of 0 divides by zero".into(),
+                "zero weight",
+            ));
+        }
+        return None;
+    }
+    let counts: Vec<String> = allowed.iter().map(usize::to_string).collect();
+    let message = format!(
+        "{} numbers where {what} has {}",
+        args.len(),
+        counts.join(" or ")
+    );
+    Some(match args.get(*allowed.last().unwrap_or(&0)) {
+        Some(&(column, word)) => (column, word.chars().count(), message, "one too many"),
+        None => (end, 1, message, "missing numbers"),
+    })
+}
+
+/// The first of a position's coordinates past the limit the renderer holds.
+fn beyond_limit(coordinates: &[(usize, &str)]) -> Option<Problem> {
+    let &(column, word) = coordinates
+        .iter()
+        .find(|(_, w)| w.parse::<f32>().is_ok_and(|x| x.abs() > MAX_COORDINATE))?;
+    Some((
+        column,
+        word.chars().count(),
+        format!("`{word}` is beyond the coordinate limit ±{MAX_COORDINATE:e}"),
+        "too far",
+    ))
+}
+
+/// What is wrong with a face's vertices given the counts so far.
+fn face(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Problem> {
+    for &(column, word) in args {
+        if let Some((message, label)) = face_vertex(word, counts) {
+            return Some((column, word.chars().count(), message, label));
+        }
+    }
+    if args.len() < 3 {
+        return Some((
+            args.last().map_or(end, |&(c, w)| c + w.chars().count()),
+            1,
+            format!(
+                "a face with {} vertices: a face needs at least 3",
+                args.len()
+            ),
+            "a third vertex is missing",
+        ));
+    }
+    None
+}
+
 /// What is wrong with one face vertex `v/vt/vn` given the counts so far.
-fn face_vertex(word: &str, counts: [usize; 3]) -> Option<String> {
+fn face_vertex(word: &str, counts: [usize; 3]) -> Option<(String, &'static str)> {
     const KINDS: [&str; 3] = ["position", "texture coordinate", "normal"];
-    for (k, part) in word.split('/').enumerate().take(3) {
+    let parts: Vec<&str> = word.split('/').collect();
+    if parts.len() > 3 {
+        return Some((
+            format!(
+                "`{word}` has {} parts; a face vertex is `v`, `v/vt`, `v//vn` or `v/vt/vn`",
+                parts.len()
+            ),
+            "too many `/`",
+        ));
+    }
+    for (k, part) in parts.into_iter().enumerate() {
         if part.is_empty() && k > 0 {
             continue;
         }
         let kind = KINDS[k];
         let Ok(index) = part.parse::<i64>() else {
-            return Some(format!("`{word}`: `{part}` is not a {kind} index"));
+            return Some((
+                format!("`{word}`: `{part}` is not a {kind} index"),
+                "not an index",
+            ));
         };
         let n = counts[k] as i64;
         if n == 0 {
-            return Some(format!(
-                "`{word}` refers to {kind} {index}, but the file defines no {kind}s before this line"
+            return Some((
+                format!(
+                    "`{word}` refers to {kind} {index}, but the file defines no {kind}s before this line"
+                ),
+                "none defined before this line",
             ));
         }
         if index == 0 || index > n || index < -n {
-            return Some(format!(
-                "`{word}` refers to {kind} {index}, but only {n} are defined before this line \
-                 (indices run 1..={n}, or -1..=-{n} from the last)"
+            return Some((
+                format!(
+                    "`{word}` refers to {kind} {index}, but only {n} are defined before this line \
+                     (indices run 1..={n}, or -1..=-{n} from the last)"
+                ),
+                "index out of range",
             ));
         }
     }
@@ -98,27 +290,81 @@ fn face_vertex(word: &str, counts: [usize; 3]) -> Option<String> {
 mod tests {
     use super::*;
 
+    const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+    fn at(text: &str) -> (usize, usize, usize, String) {
+        let e = check(text.as_bytes()).unwrap_or_else(|| panic!("accepted: {text}"));
+        (e.line, e.column, e.width, e.message)
+    }
+
     #[test]
     fn each_problem_is_placed_at_its_line_and_column() {
-        let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
         assert_eq!(
-            check(format!("{tri}f 1 2 3\nf -1 -2 -3\n").as_bytes()),
+            check(format!("{TRI}f 1 2 3\nf -1 -2 -3\n").as_bytes()),
             None
         );
-        let e = check(format!("{tri}f 1/1 2/1 3/1\n").as_bytes()).expect("no vt");
-        assert_eq!((e.line, e.column), (4, 3));
+        let e = check(format!("{TRI}f 1/1 2/1 3/1\n").as_bytes()).expect("no vt");
+        assert_eq!((e.line, e.column, e.width), (4, 3, 3));
         assert!(
             e.message.contains("no texture coordinates"),
             "{}",
             e.message
         );
         assert_eq!(e.text, "f 1/1 2/1 3/1");
-        let e = check(format!("{tri}vn 0 0 1\nf 1//1  2//1 3//2\n").as_bytes()).expect("vn 2");
+        let e = check(format!("{TRI}vn 0 0 1\nf 1//1  2//1 3//2\n").as_bytes()).expect("vn 2");
         assert_eq!((e.line, e.column), (5, 14));
         assert!(e.message.contains("only 1 are defined"), "{}", e.message);
-        let e = check(format!("{tri}f 1 2 4\n").as_bytes()).expect("v 4");
-        assert_eq!((e.line, e.column), (4, 7));
+        assert_eq!(at(&format!("{TRI}f 1 2 4\n")).1, 7);
         let e = check(b"v 0 0 0\nv \x89PNG\x00\n").expect("binary");
         assert_eq!((e.line, e.column), (2, 3));
+        assert!(!e.text.contains('\0'), "{:?}", e.text);
+    }
+
+    #[test]
+    fn malformed_vertex_lines_are_placed_at_the_number() {
+        let (line, column, width, message) = at("v 0 0 0\nv 1 x 0\n");
+        assert_eq!((line, column, width), (2, 5, 1));
+        assert!(message.contains("`x` is not a number"), "{message}");
+        let (_, column, _, message) = at("v 0 0\n");
+        assert_eq!(column, 6);
+        assert!(message.contains("2 numbers"), "{message}");
+        let (_, column, width, _) = at("v 0 0 nan\n");
+        assert_eq!((column, width), (7, 3));
+        let (_, column, _, message) = at("v 0 0 1e19\n");
+        assert_eq!(column, 7);
+        assert!(message.contains("limit"), "{message}");
+        let (_, column, _, message) = at("v 1 1 1 0\n");
+        assert_eq!(column, 9);
+        assert!(message.contains("weight"), "{message}");
+        assert_eq!(at("vt 0.5\n").1, 7);
+        assert_eq!(at("vn 0 1 0 2\n").1, 10);
+        // Weights, colours and a third texture coordinate are fine.
+        assert_eq!(
+            check(b"v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nvt 0 0 0\nvn 0 0 1\n"),
+            None
+        );
+    }
+
+    #[test]
+    fn faces_need_three_well_formed_vertices() {
+        let (_, column, _, message) = at(&format!("{TRI}f 1 2\n"));
+        assert_eq!(column, 6);
+        assert!(message.contains("at least 3"), "{message}");
+        let (_, column, _, message) = at(&format!("{TRI}f 1 2 3/1/1/1\n"));
+        assert_eq!(column, 7);
+        assert!(message.contains("4 parts"), "{message}");
+    }
+
+    #[test]
+    fn the_excerpt_keeps_line_numbers_and_covers_the_problem() {
+        let e = check(format!("{TRI}f 1 2 40\n").as_bytes()).expect("v 40");
+        let (text, range) = e.excerpt();
+        assert_eq!(text, "\n\nv 0 1 0\nf 1 2 40\n");
+        assert_eq!(&text[range], "40");
+        let long = format!("v 0 0 0 {}\n", "1 ".repeat(200));
+        let e = check(long.as_bytes()).expect("too many numbers");
+        assert!(e.text.ends_with('…') && e.text.chars().count() < 80);
+        let (text, range) = e.excerpt();
+        assert_eq!(&text[range], "1");
     }
 }

@@ -4,11 +4,13 @@
 use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
 
-use super::{Eval, Evaluator};
+use super::{budget, Eval, Evaluator};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::Span;
 use crate::scene::mesh::MeshMaterialKind;
-use crate::scene::{Material, MaterialId, MeshId, Texture, TextureId};
+use crate::scene::obj::ObjError;
+use crate::scene::obj_lines::LineError;
+use crate::scene::{ImageData, Material, MaterialId, MeshId, Texture, TextureId};
 
 const IMAGE_TYPES: &[&str] = &["png", "jpg", "jpeg"];
 
@@ -54,10 +56,9 @@ impl Evaluator {
         if let Some(&id) = self.caches.images.get(&full) {
             return Ok(id);
         }
+        self.charge_image(&full, span)?;
         match self.options.assets.image(&full) {
             Ok(image) => {
-                let bytes = std::mem::size_of_val(image.pixels.as_slice()) as f64;
-                self.charge(bytes, span, "this image's pixels")?;
                 let id = self.scene.add_texture(Texture::Image(image));
                 self.caches.images.insert(full, id);
                 Ok(id)
@@ -68,6 +69,16 @@ impl Evaluator {
                     .help("relative paths resolve against the directory of the scene file"),
             )),
         }
+    }
+
+    /// Charges an image file's pixels to the memory budget from its header,
+    /// before it is decoded.
+    fn charge_image(&mut self, full: &Path, span: Span) -> Eval<()> {
+        let Some((width, height)) = ImageData::dimensions(full) else {
+            return Ok(());
+        };
+        let bytes = width as f64 * height as f64 * budget::BYTES_PER_IMAGE_PIXEL;
+        self.charge(bytes, span, "this image's pixels")
     }
 
     /// The mesh of the OBJ file `path` and the scene materials of its slots
@@ -83,6 +94,10 @@ impl Evaluator {
         }
         let (mesh, warnings) = match self.options.assets.mesh(&full) {
             Ok(loaded) => loaded,
+            Err(ObjError::At { path, error }) => {
+                let d = self.obj_line_error(&full, path, &error, span);
+                return Err(self.report(d));
+            }
             Err(e) => {
                 return Err(self.report(
                     Diagnostic::error(Code::Mesh, span, e.to_string())
@@ -112,6 +127,32 @@ impl Evaluator {
         let entry = (id, materials);
         self.caches.meshes.insert(full, entry.clone());
         Ok(entry)
+    }
+
+    /// A problem on one line of an OBJ file, shown in that file (added to
+    /// the sources as an excerpt that keeps its line numbers), with the
+    /// mesh's use in the scene as the second place.
+    fn obj_line_error(
+        &mut self,
+        full: &Path,
+        name: String,
+        error: &LineError,
+        used: Span,
+    ) -> Diagnostic {
+        let (text, range) = error.excerpt();
+        let scene = self.sources.file(used.file);
+        let (line, column) = scene.line_col(used.start as usize);
+        let note = format!("the mesh is used at {}:{line}:{column}", scene.name);
+        let file = self.sources.add(full, name, text.into());
+        Diagnostic::error(
+            Code::Mesh,
+            Span::new(file, range.start, range.end),
+            &error.message,
+        )
+        .label(&error.label)
+        .related(used, "mesh used here")
+        .help("fix the OBJ file, or export it again from its modelling tool")
+        .note(note)
     }
 
     /// A scene material for one of an OBJ's material slots.
@@ -146,10 +187,9 @@ impl Evaluator {
         if let Some(&id) = self.caches.images.get(full) {
             return Some(id);
         }
+        self.charge_image(full, span).ok()?;
         match self.options.assets.image(full) {
             Ok(image) => {
-                let bytes = std::mem::size_of_val(image.pixels.as_slice()) as f64;
-                self.charge(bytes, span, "this image's pixels").ok()?;
                 let id = self.scene.add_texture(Texture::Image(image));
                 self.caches.images.insert(full.to_path_buf(), id);
                 Some(id)

@@ -1,12 +1,13 @@
 //! The memory budget: every allocation whose size the scene controls is
 //! estimated as the scene is evaluated (primitives, so `repeat` counts;
 //! tessellated and analytic surfaces of revolution; meshes per placement;
-//! media; light entries; texture images), and the scene is refused at the
+//! media; light entries; texture images, from their headers before they
+//! are decoded; the image and its film), and the scene is refused at the
 //! object that takes the total past the budget, with both figures in the
-//! message, before anything that large is allocated. The image and film
-//! have their own guard (`settings.rs`). The per-item figures are upper
-//! bounds measured on the renderer's structures (docs/language.md, "Memory
-//! budget", says how).
+//! message, before anything that large is allocated. The per-item figures
+//! are upper bounds of the renderer's peak use (`tests/robust_memory.rs`
+//! renders the largest accepted scene of each kind under an address-space
+//! cap; docs/testing.md gives the measured margins).
 
 use super::{Eval, Evaluator, Fail};
 use crate::lang::codes::Code;
@@ -30,6 +31,14 @@ pub const BYTES_PER_TRIANGLE: f64 = 400.0;
 /// One shell piece of an analytic revolution: the inner and outer shells'
 /// triangles and their trees.
 pub const BYTES_PER_SHELL: f64 = 1024.0;
+
+/// One texture image pixel while its file is decoded: the file's bytes,
+/// the decoded and 8-bit RGB copies and the linear `Vec3` kept (12 bytes).
+pub const BYTES_PER_IMAGE_PIXEL: f64 = 32.0;
+/// One pixel of the rendered image: the film's sum and counts (20 bytes),
+/// the finished pixels (12), the encoded output and the allocator's growth
+/// (64 bytes was too few: a 2047² image failed under the address cap).
+pub const BYTES_PER_FILM_PIXEL: f64 = 128.0;
 
 /// A byte count in the largest unit that keeps it above 1.
 pub fn human(bytes: f64) -> String {
@@ -119,6 +128,19 @@ impl Evaluator {
                  definition for many copies, or raise the budget with `--memory-budget GIB`",
             ),
         ))
+    }
+
+    /// Charges the film of the scene's image size, at its `size` (or its
+    /// `render` block); a default size is counted without a place.
+    pub(super) fn charge_film(&mut self) {
+        let s = &self.scene.settings;
+        let bytes = s.width as f64 * s.height as f64 * BYTES_PER_FILM_PIXEL;
+        match self.size_span.or(self.render_seen) {
+            Some(span) => {
+                let _ = self.charge(bytes, span, "the image and its film");
+            }
+            None => self.memory.estimate += bytes,
+        }
     }
 
     /// Charges the node built from an object.

@@ -278,6 +278,8 @@ impl Evaluator {
                 d.label("too many samples")
                     .help("lower the size or the samples per pixel"),
             );
+        } else {
+            self.charge_film();
         }
     }
 }
