@@ -155,7 +155,7 @@ fn a_command_line_asking_for_a_huge_image_is_refused_before_allocating() {
     assert_no_panic(&out);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("GiB of pixel memory"), "{err}");
+    assert!(err.contains("GiB for its film"), "{err}");
     let slow: Vec<String> = args("10000", "4000000000");
     let out = run(&slow.iter().map(String::as_str).collect::<Vec<_>>());
     assert_no_panic(&out);
@@ -163,6 +163,45 @@ fn a_command_line_asking_for_a_huge_image_is_refused_before_allocating() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("samples"), "{err}");
     assert!(!png.exists(), "an image was written");
+}
+
+/// `--width`/`--height` enlarge the film after the scene was evaluated (and
+/// charged at its own size): the renderer checks the film of the size it
+/// will really render against the same `--memory-budget`.
+#[test]
+fn a_command_line_size_is_charged_to_the_memory_budget() {
+    let text = "render { size 16 x 16 }\nsphere { center (0,0,-3) radius 1 material lambertian(rgb(1,1,1)) }\n";
+    let path = scratch("budget.rt", text.as_bytes());
+    let png = std::env::temp_dir().join(format!("rtlang-budget-{}.png", std::process::id()));
+    let render = |size: &str| {
+        run(&[
+            "render",
+            path.to_str().expect("utf-8 path"),
+            "-o",
+            png.to_str().expect("utf-8 path"),
+            "--quiet",
+            "--spp",
+            "1",
+            "--memory-budget",
+            "0.001",
+            "--width",
+            size,
+            "--height",
+            size,
+        ])
+    };
+    // 200² pixels at 128 bytes is 5.1 MB, over a budget of 1.07 MB.
+    let out = render("200");
+    assert_no_panic(&out);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("memory budget"), "{err}");
+    assert!(!png.exists(), "an image was written");
+    // 64² pixels (0.5 MB) fit.
+    let out = render("64");
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(png.exists(), "no image written");
+    std::fs::remove_file(&png).expect("cleans up");
 }
 
 #[test]

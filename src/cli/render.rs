@@ -451,6 +451,9 @@ fn options_for(
     options.light_selection = args.light_selection.into();
     options.clamp = args.clamp;
     options.noise = args.noise;
+    if let Some(gib) = args.memory_budget {
+        options.memory_budget = (gib * (1u64 << 30) as f64) as u64;
+    }
     if args.time.is_some() {
         options.spp = args.spp.unwrap_or(TIME_BUDGET_SPP_CAP);
     }

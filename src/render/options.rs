@@ -54,6 +54,10 @@ pub struct RenderOptions {
     /// Independent sample set: pass `p` takes the sample indices
     /// `p·spp .. (p+1)·spp` of every pixel's stream.
     pub pass: u32,
+    /// The most bytes the film of the rendered region may take (the same
+    /// budget `--memory-budget` gives the scene's evaluation), checked
+    /// after the command line's size overrides.
+    pub memory_budget: u64,
 }
 
 /// Why options cannot be rendered.
@@ -83,14 +87,15 @@ pub enum OptionsError {
     #[error("pass {pass} of {spp} spp needs sample indices beyond 2^32")]
     PassTooLarge { pass: u32, spp: u32 },
     #[error(
-        "the {width}×{height} image would need about {gib:.1} GiB of pixel memory \
-         (at most {max_gib} GiB); lower --width/--height or use --crop"
+        "the {width}×{height} image would need about {gib:.1} GiB for its film \
+         (the memory budget is {max_gib:.1} GiB); lower --width/--height, use --crop \
+         or raise --memory-budget"
     )]
     TooLarge {
         width: u32,
         height: u32,
         gib: f64,
-        max_gib: u64,
+        max_gib: f64,
     },
     #[error(
         "{samples:.3e} samples ({spp} per pixel) is more than the {max:.0e} a render may trace; \
@@ -99,11 +104,13 @@ pub enum OptionsError {
     TooManySamples { samples: f64, spp: u32, max: f64 },
 }
 
-/// Bytes the renderer keeps per rendered pixel (accumulator, output and
-/// the encoded image), for the memory estimate.
-const BYTES_PER_PIXEL: u64 = 32;
-/// The most pixel memory a render may allocate, in GiB.
-const MAX_PIXEL_GIB: u64 = 16;
+/// Bytes a rendered pixel costs at the peak (film sums and counts, tile
+/// results, output pixels and the encoded image); the scene evaluator
+/// charges the same figure (`lang::eval::budget`), measured with
+/// `/usr/bin/time -f %M` (64 was too low for a 2047² render).
+pub const BYTES_PER_PIXEL: u64 = 128;
+/// The memory budget when none is given: 16 GiB, as the scene evaluator's.
+pub const DEFAULT_MEMORY_BUDGET: u64 = 16 << 30;
 /// The most samples (pixels × samples per pixel) a render may trace.
 const MAX_SAMPLES: f64 = 1e13;
 /// The most worker threads a render may start.
@@ -127,6 +134,7 @@ impl RenderOptions {
             noise: None,
             sample_offset: 0,
             pass: 0,
+            memory_budget: DEFAULT_MEMORY_BUDGET,
         }
     }
 
@@ -175,12 +183,13 @@ impl RenderOptions {
         }
         let pixels = u64::from(c.x1 - c.x0) * u64::from(c.y1 - c.y0);
         let bytes = pixels.saturating_mul(BYTES_PER_PIXEL);
-        if bytes > MAX_PIXEL_GIB << 30 {
+        if bytes > self.memory_budget {
+            let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
             return Err(OptionsError::TooLarge {
                 width: c.x1 - c.x0,
                 height: c.y1 - c.y0,
-                gib: bytes as f64 / (1u64 << 30) as f64,
-                max_gib: MAX_PIXEL_GIB,
+                gib: gib(bytes),
+                max_gib: gib(self.memory_budget),
             });
         }
         let samples = pixels as f64 * f64::from(self.spp);
