@@ -5,11 +5,12 @@
 //! translation and positive per-axis scale, a triangle under any affine map
 //! that keeps its orientation (positive determinant), and under any other
 //! invertible affine map a rect as one parallelogram and a box as its six
-//! faces. A subtree of such shapes under groups and transforms then
-//! becomes plain primitives of the parent's set, one flat BVH, instead of
-//! instances each with its own matrix and hierarchy. Anything else
-//! (stretched or mirrored spheres, mirrored triangles, meshes, motion, media,
-//! flips) keeps its instance.
+//! faces; a flipped rect, box or parallelogram becomes parallelograms with
+//! their outsides reversed. A subtree of such shapes under groups, flips and
+//! transforms then becomes plain primitives of the parent's set, one flat
+//! BVH, instead of instances each with its own matrix and hierarchy.
+//! Anything else (stretched or mirrored spheres, mirrored triangles, flipped
+//! spheres and triangles, meshes, motion, media) keeps its instance.
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
@@ -60,6 +61,24 @@ fn walk(m: &Mat4, node: &Node, out: &mut Vec<(Primitive, MaterialId)>) -> bool {
         }
         Node::Group(children) => children.iter().all(|c| walk(m, c, out)),
         Node::Transform { matrix, child } => walk(&(*m * *matrix), child, out),
+        Node::Flip(child) => {
+            let start = out.len();
+            if !walk(m, child, out) {
+                return false;
+            }
+            let mut faces = Vec::with_capacity(out.len() - start);
+            for (p, material) in out.drain(start..) {
+                let Some(quads) = quads(&p, &Mat4::IDENTITY) else {
+                    return false;
+                };
+                faces.extend(quads.into_iter().filter_map(|q| match q {
+                    Primitive::Quad(q) => Some((Primitive::Quad(q.flipped()), material)),
+                    _ => None,
+                }));
+            }
+            out.extend(faces);
+            true
+        }
         _ => false,
     }
 }
@@ -142,6 +161,7 @@ pub fn transformed(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
         },
         Primitive::TurnedSphere(s) => one(turned(m, &s.sphere, s.to_object)?),
         Primitive::Rect(r) => match scale {
+            None => quads(p, m),
             Some(scale) => {
                 let map = |axis: u8, v: f32| scale[axis as usize] * v + t[axis as usize];
                 let span = |axis: u8, (lo, hi): (f32, f32)| (map(axis, lo), map(axis, hi));
@@ -153,43 +173,55 @@ pub fn transformed(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
                     k: map(r.axis, r.k),
                 }))
             }
-            None => {
-                let [i, j] = r.span.map(usize::from);
-                let mut corner = Vec3::ZERO;
-                corner[r.axis as usize] = r.k;
-                corner[i] = r.a.0;
-                corner[j] = r.b.0;
-                let edges = [unit(i) * (r.a.1 - r.a.0), unit(j) * (r.b.1 - r.b.0)];
-                one(quad(m, corner, edges, unit(r.axis as usize))?)
-            }
         },
         Primitive::Cuboid(c) => match scale {
             Some(scale) => one(Primitive::Cuboid(Cuboid {
                 min: scale * c.min + t,
                 max: scale * c.max + t,
             })),
-            // Face `axis` of a cuboid has uv along the next two axes (cyclic).
-            None => {
-                let ext = c.max - c.min;
-                let mut faces = Vec::with_capacity(6);
-                for axis in 0..3 {
-                    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
-                    let edges = [unit(i) * ext[i], unit(j) * ext[j]];
-                    for (k, sign) in [(c.min[axis], -1.0), (c.max[axis], 1.0)] {
-                        let mut corner = c.min;
-                        corner[axis] = k;
-                        faces.push(quad(m, corner, edges, sign * unit(axis))?);
-                    }
-                }
-                Some(faces)
-            }
+            None => quads(p, m),
         },
-        Primitive::Quad(q) => one(quad(m, q.corner, [q.edge_u, q.edge_v], q.normal)?),
+        Primitive::Quad(_) => quads(p, m),
         Primitive::Triangle(tri) => (det > 0.0).then(|| {
             vec![Primitive::Triangle(Triangle {
                 v: tri.v.map(|v| m.transform_point3(v)),
             })]
         }),
+    }
+}
+
+/// A rect, box or parallelogram placed by the invertible affine `m` as
+/// parallelograms with the same uv and outward sides: one, or a box's six
+/// faces. `None` for other shapes and degenerate ones.
+fn quads(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
+    let one = |p: Primitive| Some(vec![p]);
+    match p {
+        Primitive::Rect(r) => {
+            let [i, j] = r.span.map(usize::from);
+            let mut corner = Vec3::ZERO;
+            corner[r.axis as usize] = r.k;
+            corner[i] = r.a.0;
+            corner[j] = r.b.0;
+            let edges = [unit(i) * (r.a.1 - r.a.0), unit(j) * (r.b.1 - r.b.0)];
+            one(quad(m, corner, edges, unit(r.axis as usize))?)
+        }
+        // Face `axis` of a cuboid has uv along the next two axes (cyclic).
+        Primitive::Cuboid(c) => {
+            let ext = c.max - c.min;
+            let mut faces = Vec::with_capacity(6);
+            for axis in 0..3 {
+                let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+                let edges = [unit(i) * ext[i], unit(j) * ext[j]];
+                for (k, sign) in [(c.min[axis], -1.0), (c.max[axis], 1.0)] {
+                    let mut corner = c.min;
+                    corner[axis] = k;
+                    faces.push(quad(m, corner, edges, sign * unit(axis))?);
+                }
+            }
+            Some(faces)
+        }
+        Primitive::Quad(q) => one(quad(m, q.corner, [q.edge_u, q.edge_v], q.normal)?),
+        _ => None,
     }
 }
 
@@ -368,6 +400,44 @@ mod tests {
         let mut projective = Mat4::IDENTITY;
         projective.x_axis.w = 0.1;
         assert!(transformed(&triangle, &projective).is_none());
+    }
+
+    #[test]
+    fn a_flipped_rect_is_a_quad_facing_the_other_way_with_the_same_uv() {
+        let [sphere, rect, _, _] = shapes();
+        let material = MaterialId(3);
+        let shape = |p| match p {
+            Primitive::Rect(_) => Shape::Rect {
+                plane: RectPlane::Xz,
+                a: (-1.0, 1.0),
+                b: (-0.5, 2.0),
+                k: 0.25,
+            },
+            _ => Shape::Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            },
+        };
+        let flip = |p| Node::Flip(Box::new(Node::Shape {
+            shape: shape(p),
+            material,
+        }));
+        let mut out = Vec::new();
+        assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out));
+        let [(Primitive::Quad(q), m)] = out[..] else {
+            panic!("not one quad: {out:?}")
+        };
+        assert_eq!((q.normal, m), (-Vec3::Y, material));
+        let ray = Ray::new(Vec3::new(0.5, 3.0, 1.0), -Vec3::Y, 0.0);
+        let (want, got) = (
+            rect.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+            q.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+        );
+        assert_eq!((want.t, want.point), (got.t, got.point));
+        assert!((want.uv - got.uv).abs().max_element() < 1e-6);
+        // A flipped sphere would need its uv mirrored: it keeps its instance.
+        assert!(!flatten(&Mat4::IDENTITY, &flip(sphere), &mut out));
+        assert_eq!(out.len(), 1);
     }
 
     #[test]

@@ -204,6 +204,9 @@ impl Builder<'_> {
             }
             Node::Instance(id) => items.push(self.prototype(*id)?),
             Node::Flip(child) => {
+                if flatten(&Mat4::IDENTITY, node, prims) {
+                    return Ok(());
+                }
                 let inner = self.instance(std::iter::once(&**child))?;
                 let geometry = Geometry::Flipped(self.unplaced(inner));
                 items.push(self.placed(geometry, Placement::Identity));

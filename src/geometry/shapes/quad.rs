@@ -52,6 +52,15 @@ impl Quad {
         })
     }
 
+    /// The same parallelogram and uv with its outside on the other side.
+    pub fn flipped(&self) -> Quad {
+        Quad {
+            normal: -self.normal,
+            inv_area: -self.inv_area,
+            ..*self
+        }
+    }
+
     pub fn bounds(&self) -> Aabb {
         let (a, b) = (self.corner + self.edge_u, self.corner + self.edge_v);
         let c = a + self.edge_v;
@@ -127,6 +136,21 @@ mod tests {
         }
         let parallel = Ray::new(q.corner + q.normal, q.edge_u, 0.0);
         assert!(q.intersect(&parallel, 0.0, f32::INFINITY).is_none());
+    }
+
+    #[test]
+    fn a_flipped_quad_has_the_same_hits_and_uv_with_the_normal_reversed() {
+        let q = tilted(Vec3::new(1.0, 2.0, 3.0));
+        let f = q.flipped();
+        let target = q.corner + 0.3 * q.edge_u + 0.6 * q.edge_v;
+        let origin = target + 2.0 * q.normal;
+        let ray = Ray::new(origin, target - origin, 0.0);
+        let (a, b) = (
+            q.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+            f.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+        );
+        assert_eq!((a.t, a.point, a.uv), (b.t, b.point, b.uv));
+        assert_eq!(a.normal, -b.normal);
     }
 
     #[test]
