@@ -278,10 +278,7 @@ mod tests {
                 inv.transform_vector3(ray.dir),
                 0.0,
             );
-            let (want, got) = (
-                p.intersect(&local, 1e-3, f32::INFINITY),
-                nearest(&ray),
-            );
+            let (want, got) = (p.intersect(&local, 1e-3, f32::INFINITY), nearest(&ray));
             // Grazing rays may flip between hit and miss by rounding.
             if want.is_some() != got.is_some() {
                 flips += 1;
@@ -418,10 +415,12 @@ mod tests {
                 radius: 1.0,
             },
         };
-        let flip = |p| Node::Flip(Box::new(Node::Shape {
-            shape: shape(p),
-            material,
-        }));
+        let flip = |p| {
+            Node::Flip(Box::new(Node::Shape {
+                shape: shape(p),
+                material,
+            }))
+        };
         let mut out = Vec::new();
         assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out));
         let [(Primitive::Quad(q), m)] = out[..] else {

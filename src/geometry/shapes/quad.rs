@@ -178,7 +178,11 @@ mod tests {
                 checked += 1;
                 // Leaving on the near side, grazing or steep: no re-hit.
                 let tangent = q.edge_u.normalize();
-                for d in [q.normal, (tangent + 1e-3 * q.normal), (q.normal - 0.5 * tangent)] {
+                for d in [
+                    q.normal,
+                    (tangent + 1e-3 * q.normal),
+                    (q.normal - 0.5 * tangent),
+                ] {
                     let o = offset_origin(h.point, h.error, h.normal, d);
                     let leave = Ray::new(o, d, 0.0);
                     assert!(
