@@ -125,9 +125,13 @@ impl Builder<'_> {
         for node in nodes {
             self.collect(node, &mut prims, &mut items)?;
         }
-        if !prims.is_empty() {
-            let set = PrimitiveSet::new(prims);
-            items.push(self.placed(Geometry::Primitives(set), Placement::Identity));
+        let geometry = match &prims[..] {
+            [] => None,
+            [(p, m)] => Some(Geometry::Single(*p, *m)),
+            _ => Some(Geometry::Primitives(PrimitiveSet::new(prims))),
+        };
+        if let Some(geometry) = geometry {
+            items.push(self.placed(geometry, Placement::Identity));
         }
         if items.len() == 1 {
             return Ok(items.remove(0));
