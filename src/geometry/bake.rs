@@ -1,17 +1,21 @@
 //! Static transforms baked into analytic primitives wherever the shape
 //! survives the map exactly, with the same texture coordinates and outward
-//! normals: a sphere under translation and positive uniform scale, a rect or
-//! box under translation and positive per-axis scale, a triangle under any
-//! affine map that keeps its orientation (positive determinant). A subtree
-//! of such shapes under groups and transforms then becomes plain primitives
-//! of the parent's set, one flat BVH, instead of instances each with its own
-//! matrix and hierarchy. Anything else (rotated spheres and boxes, meshes,
-//! motion, media, flips) keeps its instance.
+//! normals: a sphere under translation and positive uniform scale (under a
+//! rotation too, keeping the rotation to turn its uv), a rect or box under
+//! translation and positive per-axis scale, a triangle under any affine map
+//! that keeps its orientation (positive determinant), and under any other
+//! invertible affine map a rect as one parallelogram and a box as its six
+//! faces; a flipped rect, box or parallelogram becomes parallelograms with
+//! their outsides reversed. A subtree of such shapes under groups, flips and
+//! transforms then becomes plain primitives of the parent's set, one flat
+//! BVH, instead of instances each with its own matrix and hierarchy.
+//! Anything else (stretched or mirrored spheres, mirrored triangles, flipped
+//! spheres and triangles, meshes, motion, media) keeps its instance.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
 use super::primitives::Primitive;
-use super::shapes::{Cuboid, Rect, Sphere, Triangle};
+use super::shapes::{Cuboid, Quad, Rect, Sphere, Triangle, TurnedSphere};
 use crate::scene::{MaterialId, Node, Shape};
 
 /// The analytic primitive of a bounded shape in its own space; `None` for
@@ -48,8 +52,8 @@ fn walk(m: &Mat4, node: &Node, out: &mut Vec<(Primitive, MaterialId)>) -> bool {
     match node {
         Node::Shape { shape, material } => {
             match primitive(shape).and_then(|p| transformed(&p, m)) {
-                Some(p) => {
-                    out.push((p, *material));
+                Some(baked) => {
+                    out.extend(baked.into_iter().map(|p| (p, *material)));
                     true
                 }
                 None => false,
@@ -57,6 +61,24 @@ fn walk(m: &Mat4, node: &Node, out: &mut Vec<(Primitive, MaterialId)>) -> bool {
         }
         Node::Group(children) => children.iter().all(|c| walk(m, c, out)),
         Node::Transform { matrix, child } => walk(&(*m * *matrix), child, out),
+        Node::Flip(child) => {
+            let start = out.len();
+            if !walk(m, child, out) {
+                return false;
+            }
+            let mut faces = Vec::with_capacity(out.len() - start);
+            for (p, material) in out.drain(start..) {
+                let Some(quads) = quads(&p, &Mat4::IDENTITY) else {
+                    return false;
+                };
+                faces.extend(quads.into_iter().filter_map(|q| match q {
+                    Primitive::Quad(q) => Some((Primitive::Quad(q.flipped()), material)),
+                    _ => None,
+                }));
+            }
+            out.extend(faces);
+            true
+        }
         _ => false,
     }
 }
@@ -71,46 +93,135 @@ fn axis_scale(m: &Mat4) -> Option<Vec3> {
     (off.iter().all(|&v| v == 0.0) && diagonal.cmpgt(Vec3::ZERO).all()).then_some(diagonal)
 }
 
-/// `p` placed by `m`, when the result is exactly the same kind of shape.
-pub fn transformed(p: &Primitive, m: &Mat4) -> Option<Primitive> {
+/// The parallelogram on `corner` spanned by the edges, with outward side
+/// `outward`, placed by the affine `m` (normals go by the inverse transpose).
+fn quad(m: &Mat4, corner: Vec3, edges: [Vec3; 2], outward: Vec3) -> Option<Primitive> {
+    let normals = Mat3::from_mat4(*m).inverse().transpose();
+    let q = Quad::new(
+        m.transform_point3(corner),
+        m.transform_vector3(edges[0]),
+        m.transform_vector3(edges[1]),
+        normals * outward,
+    )?;
+    Some(Primitive::Quad(q))
+}
+
+/// `sphere`, whose uv frame is turned by `to_object`, placed by `m` when its
+/// linear part is a rotation times a positive uniform scale (within the
+/// rounding of a rotation matrix's entries).
+fn turned(m: &Mat4, sphere: &Sphere, to_object: Quat) -> Option<Primitive> {
+    let linear = Mat3::from_mat4(*m);
+    let det = linear.determinant();
+    if det <= 0.0 {
+        return None;
+    }
+    let scale = det.cbrt();
+    let rotation = linear * (1.0 / scale);
+    let drift = rotation.transpose() * rotation - Mat3::IDENTITY;
+    if drift.to_cols_array().iter().any(|e| e.abs() > 1e-5) {
+        return None;
+    }
+    Some(Primitive::TurnedSphere(TurnedSphere {
+        sphere: Sphere {
+            center: m.transform_point3(sphere.center),
+            radius: scale * sphere.radius,
+        },
+        to_object: (to_object * Quat::from_mat3(&rotation).conjugate()).normalize(),
+    }))
+}
+
+/// The unit vector along `axis`.
+fn unit(axis: usize) -> Vec3 {
+    Vec3::AXES[axis]
+}
+
+/// `p` placed by `m`, when the result is exactly the same surface with the
+/// same uv: one primitive, or a box's six faces.
+pub fn transformed(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
     if m.row(3) != Vec4::W || !m.is_finite() {
         return None;
     }
+    let det = m.determinant();
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
     let t = m.w_axis.truncate();
+    let scale = axis_scale(m);
+    let one = |p: Primitive| Some(vec![p]);
     match p {
-        Primitive::Sphere(s) => {
-            let scale = axis_scale(m)?;
-            (scale.x == scale.y && scale.y == scale.z).then(|| {
-                Primitive::Sphere(Sphere {
+        Primitive::Sphere(s) => match scale {
+            Some(scale) if scale.x == scale.y && scale.y == scale.z => {
+                one(Primitive::Sphere(Sphere {
                     center: scale * s.center + t,
                     radius: scale.x * s.radius,
-                })
-            })
-        }
-        Primitive::Rect(r) => {
-            let scale = axis_scale(m)?;
-            let map = |axis: u8, v: f32| scale[axis as usize] * v + t[axis as usize];
-            let span = |axis: u8, (lo, hi): (f32, f32)| (map(axis, lo), map(axis, hi));
-            Some(Primitive::Rect(Rect {
-                axis: r.axis,
-                span: r.span,
-                a: span(r.span[0], r.a),
-                b: span(r.span[1], r.b),
-                k: map(r.axis, r.k),
-            }))
-        }
-        Primitive::Cuboid(c) => {
-            let scale = axis_scale(m)?;
-            Some(Primitive::Cuboid(Cuboid {
+                }))
+            }
+            Some(_) => None,
+            None => one(turned(m, s, Quat::IDENTITY)?),
+        },
+        Primitive::TurnedSphere(s) => one(turned(m, &s.sphere, s.to_object)?),
+        Primitive::Rect(r) => match scale {
+            None => quads(p, m),
+            Some(scale) => {
+                let map = |axis: u8, v: f32| scale[axis as usize] * v + t[axis as usize];
+                let span = |axis: u8, (lo, hi): (f32, f32)| (map(axis, lo), map(axis, hi));
+                one(Primitive::Rect(Rect {
+                    axis: r.axis,
+                    span: r.span,
+                    a: span(r.span[0], r.a),
+                    b: span(r.span[1], r.b),
+                    k: map(r.axis, r.k),
+                }))
+            }
+        },
+        Primitive::Cuboid(c) => match scale {
+            Some(scale) => one(Primitive::Cuboid(Cuboid {
                 min: scale * c.min + t,
                 max: scale * c.max + t,
-            }))
-        }
-        Primitive::Triangle(tri) => (m.determinant() > 0.0).then(|| {
-            Primitive::Triangle(Triangle {
+            })),
+            None => quads(p, m),
+        },
+        Primitive::Quad(_) => quads(p, m),
+        Primitive::Triangle(tri) => (det > 0.0).then(|| {
+            vec![Primitive::Triangle(Triangle {
                 v: tri.v.map(|v| m.transform_point3(v)),
-            })
+            })]
         }),
+    }
+}
+
+/// A rect, box or parallelogram placed by the invertible affine `m` as
+/// parallelograms with the same uv and outward sides: one, or a box's six
+/// faces. `None` for other shapes and degenerate ones.
+fn quads(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
+    let one = |p: Primitive| Some(vec![p]);
+    match p {
+        Primitive::Rect(r) => {
+            let [i, j] = r.span.map(usize::from);
+            let mut corner = Vec3::ZERO;
+            corner[r.axis as usize] = r.k;
+            corner[i] = r.a.0;
+            corner[j] = r.b.0;
+            let edges = [unit(i) * (r.a.1 - r.a.0), unit(j) * (r.b.1 - r.b.0)];
+            one(quad(m, corner, edges, unit(r.axis as usize))?)
+        }
+        // Face `axis` of a cuboid has uv along the next two axes (cyclic).
+        Primitive::Cuboid(c) => {
+            let ext = c.max - c.min;
+            let mut faces = Vec::with_capacity(6);
+            for axis in 0..3 {
+                let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+                let edges = [unit(i) * ext[i], unit(j) * ext[j]];
+                for (k, sign) in [(c.min[axis], -1.0), (c.max[axis], 1.0)] {
+                    let mut corner = c.min;
+                    corner[axis] = k;
+                    faces.push(quad(m, corner, edges, sign * unit(axis))?);
+                }
+            }
+            Some(faces)
+        }
+        Primitive::Quad(q) => one(quad(m, q.corner, [q.edge_u, q.edge_v], q.normal)?),
+        _ => None,
     }
 }
 
@@ -146,6 +257,12 @@ mod tests {
     /// distance, world point, outward normal direction and uv.
     fn agrees(p: &Primitive, m: &Mat4) {
         let baked = transformed(p, m).expect("survives");
+        let nearest = |ray: &Ray| {
+            baked
+                .iter()
+                .filter_map(|b| b.intersect(ray, 1e-3, f32::INFINITY))
+                .min_by(|a, b| a.t.total_cmp(&b.t))
+        };
         let inv = m.inverse();
         let (mut hits, mut flips) = (0, 0);
         for i in 0..400 {
@@ -161,10 +278,7 @@ mod tests {
                 inv.transform_vector3(ray.dir),
                 0.0,
             );
-            let (want, got) = (
-                p.intersect(&local, 1e-3, f32::INFINITY),
-                baked.intersect(&ray, 1e-3, f32::INFINITY),
-            );
+            let (want, got) = (p.intersect(&local, 1e-3, f32::INFINITY), nearest(&ray));
             // Grazing rays may flip between hit and miss by rounding.
             if want.is_some() != got.is_some() {
                 flips += 1;
@@ -208,16 +322,50 @@ mod tests {
         let affine =
             shift * Mat4::from_rotation_y(0.4) * Mat4::from_scale(Vec3::new(1.0, 2.0, 0.5));
         let [sphere, rect, cuboid, triangle] = shapes();
-        for m in [shift, uniform] {
+        let spin = uniform * Mat4::from_euler(glam::EulerRot::XYZ, 0.3, -1.2, 0.4);
+        for m in [shift, uniform, spin] {
             agrees(&sphere, &m);
         }
-        for m in [shift, uniform, axes] {
+        // A turned sphere turns again.
+        let once = transformed(&sphere, &spin).expect("a turned sphere");
+        agrees(&once[0], &Mat4::from_rotation_y(0.7));
+        let rotate = shift * Mat4::from_rotation_y(0.3);
+        let mirror = shift * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+        for m in [shift, uniform, axes, affine, rotate, mirror] {
             agrees(&rect, &m);
             agrees(&cuboid, &m);
         }
         for m in [shift, uniform, axes, affine] {
             agrees(&triangle, &m);
         }
+        // A baked parallelogram bakes again under a second map.
+        let once = transformed(&rect, &rotate).expect("a quad");
+        agrees(&once[0], &affine);
+    }
+
+    #[test]
+    fn turned_rects_and_boxes_become_parallelograms() {
+        let turn = Mat4::from_rotation_z(0.5);
+        let [_, rect, cuboid, _] = shapes();
+        let one = transformed(&rect, &turn).expect("a quad");
+        assert!(matches!(one[..], [Primitive::Quad(_)]));
+        let faces = transformed(&cuboid, &turn).expect("six quads");
+        assert_eq!(faces.len(), 6);
+        // Each face's outward normal points away from the box's centre.
+        let centre = turn.transform_point3(cuboid.bounds().centroid());
+        for f in &faces {
+            let Primitive::Quad(q) = f else {
+                panic!("not a quad: {f:?}")
+            };
+            let middle = q.corner + 0.5 * (q.edge_u + q.edge_v);
+            assert!((middle - centre).dot(q.normal) > 0.0, "{q:?}");
+        }
+        // Axis-aligned maps keep the cheaper axis-aligned shapes.
+        let shift = Mat4::from_translation(Vec3::ONE);
+        assert!(matches!(
+            transformed(&cuboid, &shift).as_deref(),
+            Some([Primitive::Cuboid(_)])
+        ));
     }
 
     #[test]
@@ -226,17 +374,68 @@ mod tests {
         let stretch = Mat4::from_scale(Vec3::new(1.0, 2.0, 1.0));
         let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
         let [sphere, rect, cuboid, triangle] = shapes();
-        // A rotated sphere would move its uv seam; a stretched one is an ellipsoid.
-        assert!(transformed(&sphere, &rotate).is_none());
-        assert!(transformed(&sphere, &stretch).is_none());
-        assert!(transformed(&rect, &rotate).is_none());
-        assert!(transformed(&cuboid, &rotate).is_none());
-        assert!(transformed(&cuboid, &mirror).is_none());
+        // A stretched or sheared sphere is an ellipsoid; a mirrored one
+        // would need its uv mirrored.
+        let shear = Mat4::from_cols_array(&[
+            1.0, 0.0, 0.0, 0.0, 0.3, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        ]);
+        for m in [stretch, rotate * stretch, shear, mirror, rotate * mirror] {
+            assert!(transformed(&sphere, &m).is_none(), "{m}");
+        }
+        assert!(matches!(
+            transformed(&sphere, &rotate).as_deref(),
+            Some([Primitive::TurnedSphere(_)])
+        ));
+        // A singular map flattens every shape.
+        let flat = Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0));
+        for p in [sphere, rect, cuboid, triangle] {
+            assert!(transformed(&p, &flat).is_none(), "{p:?}");
+        }
         // A mirrored triangle would turn its front face to the back.
         assert!(transformed(&triangle, &mirror).is_none());
         let mut projective = Mat4::IDENTITY;
         projective.x_axis.w = 0.1;
         assert!(transformed(&triangle, &projective).is_none());
+    }
+
+    #[test]
+    fn a_flipped_rect_is_a_quad_facing_the_other_way_with_the_same_uv() {
+        let [sphere, rect, _, _] = shapes();
+        let material = MaterialId(3);
+        let shape = |p| match p {
+            Primitive::Rect(_) => Shape::Rect {
+                plane: RectPlane::Xz,
+                a: (-1.0, 1.0),
+                b: (-0.5, 2.0),
+                k: 0.25,
+            },
+            _ => Shape::Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            },
+        };
+        let flip = |p| {
+            Node::Flip(Box::new(Node::Shape {
+                shape: shape(p),
+                material,
+            }))
+        };
+        let mut out = Vec::new();
+        assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out));
+        let [(Primitive::Quad(q), m)] = out[..] else {
+            panic!("not one quad: {out:?}")
+        };
+        assert_eq!((q.normal, m), (-Vec3::Y, material));
+        let ray = Ray::new(Vec3::new(0.5, 3.0, 1.0), -Vec3::Y, 0.0);
+        let (want, got) = (
+            rect.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+            q.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+        );
+        assert_eq!((want.t, want.point), (got.t, got.point));
+        assert!((want.uv - got.uv).abs().max_element() < 1e-6);
+        // A flipped sphere would need its uv mirrored: it keeps its instance.
+        assert!(!flatten(&Mat4::IDENTITY, &flip(sphere), &mut out));
+        assert_eq!(out.len(), 1);
     }
 
     #[test]

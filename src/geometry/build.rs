@@ -125,9 +125,13 @@ impl Builder<'_> {
         for node in nodes {
             self.collect(node, &mut prims, &mut items)?;
         }
-        if !prims.is_empty() {
-            let set = PrimitiveSet::new(prims);
-            items.push(self.placed(Geometry::Primitives(set), Placement::Identity));
+        let geometry = match &prims[..] {
+            [] => None,
+            [(p, m)] => Some(Geometry::Single(*p, *m)),
+            _ => Some(Geometry::Primitives(PrimitiveSet::new(prims))),
+        };
+        if let Some(geometry) = geometry {
+            items.push(self.placed(geometry, Placement::Identity));
         }
         if items.len() == 1 {
             return Ok(items.remove(0));
@@ -204,6 +208,9 @@ impl Builder<'_> {
             }
             Node::Instance(id) => items.push(self.prototype(*id)?),
             Node::Flip(child) => {
+                if flatten(&Mat4::IDENTITY, node, prims) {
+                    return Ok(());
+                }
                 let inner = self.instance(std::iter::once(&**child))?;
                 let geometry = Geometry::Flipped(self.unplaced(inner));
                 items.push(self.placed(geometry, Placement::Identity));

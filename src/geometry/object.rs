@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::group::Group;
 use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
-use super::primitives::PrimitiveSet;
+use super::primitives::{Primitive, PrimitiveSet};
 use super::revolution::RevolutionSurface;
 use super::shapes::{Plane, ShapeHit};
 use super::{Aabb, Hit, Ray};
@@ -17,6 +17,9 @@ use crate::scene::MaterialId;
 /// Geometry in its own object space.
 pub enum Geometry {
     Primitives(PrimitiveSet),
+    /// One primitive alone (a medium's boundary, a moving ball): tested
+    /// directly, without a hierarchy to walk.
+    Single(Primitive, MaterialId),
     Mesh(MeshGeometry),
     Revolution {
         surface: Arc<RevolutionSurface>,
@@ -59,6 +62,7 @@ impl Geometry {
     pub fn bounds(&self) -> Aabb {
         match self {
             Geometry::Primitives(p) => p.bounds(),
+            Geometry::Single(p, _) => p.bounds(),
             Geometry::Mesh(m) => m.bounds(),
             Geometry::Revolution { surface, .. } => surface.bounds(),
             Geometry::Plane { .. } => Aabb {
@@ -77,6 +81,7 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         match self {
             Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
+            Geometry::Single(p, _) => p.intersect(ray, t_min, t_max).is_some(),
             Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
             Geometry::Revolution { surface, .. } => surface.intersect(ray, t_min, t_max).is_some(),
             Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
@@ -109,6 +114,10 @@ impl Geometry {
             Geometry::Primitives(p) => {
                 let (h, m) = p.intersect(ray, t_min, t_max)?;
                 Some(facing(h, h.normal, ray.dir, m))
+            }
+            Geometry::Single(p, m) => {
+                let h = p.intersect(ray, t_min, t_max)?;
+                Some(facing(h, h.normal, ray.dir, *m))
             }
             Geometry::Mesh(mesh) => {
                 let h = mesh.intersect(ray, t_min, t_max)?;

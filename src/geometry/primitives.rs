@@ -1,7 +1,7 @@
-//! Many analytic primitives (spheres, rects, boxes, triangles) with their
-//! materials in flat arrays under one BVH.
+//! Many analytic primitives (spheres, turned spheres, rects, parallelograms,
+//! boxes, triangles) with their materials in flat arrays under one BVH.
 
-use super::shapes::{Cuboid, Rect, ShapeHit, Sphere, Triangle};
+use super::shapes::{Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
 
@@ -9,7 +9,9 @@ use crate::scene::MaterialId;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Primitive {
     Sphere(Sphere),
+    TurnedSphere(TurnedSphere),
     Rect(Rect),
+    Quad(Quad),
     Cuboid(Cuboid),
     Triangle(Triangle),
 }
@@ -18,7 +20,9 @@ impl Primitive {
     pub fn bounds(&self) -> Aabb {
         match self {
             Primitive::Sphere(s) => s.bounds(),
+            Primitive::TurnedSphere(s) => s.bounds(),
             Primitive::Rect(r) => r.bounds(),
+            Primitive::Quad(q) => q.bounds(),
             Primitive::Cuboid(c) => c.bounds(),
             Primitive::Triangle(t) => t.bounds(),
         }
@@ -28,7 +32,9 @@ impl Primitive {
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
         match self {
             Primitive::Sphere(s) => s.intersect(ray, t_min, t_max),
+            Primitive::TurnedSphere(s) => s.intersect(ray, t_min, t_max),
             Primitive::Rect(r) => r.intersect(ray, t_min, t_max),
+            Primitive::Quad(q) => q.intersect(ray, t_min, t_max),
             Primitive::Cuboid(c) => c.intersect(ray, t_min, t_max),
             Primitive::Triangle(t) => t.intersect(ray, t_min, t_max),
         }

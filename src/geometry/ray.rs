@@ -43,28 +43,32 @@ pub const fn gamma(n: u32) -> f32 {
 /// most `error`, past that error box along the geometric normal `n`, to the
 /// side that `dir` leaves towards, rounding every moved component away from
 /// `p`, so that a ray spawned there cannot re-hit the surface it left.
-#[inline]
+#[inline(always)]
 pub fn offset_origin(p: Vec3, error: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     let d = n.abs().dot(error);
-    let mut offset = n * d;
-    if n.dot(dir) < 0.0 {
-        offset = -offset;
-    }
+    let offset = if n.dot(dir) < 0.0 { -(n * d) } else { n * d };
     let moved = p + offset;
-    let away = |v: f32, o: f32| {
-        if o > 0.0 {
-            v.next_up()
-        } else if o < 0.0 {
-            v.next_down()
-        } else {
-            v
-        }
-    };
     Vec3::new(
         away(moved.x, offset.x),
         away(moved.y, offset.y),
         away(moved.z, offset.z),
     )
+}
+
+/// `v` moved to the next float in the direction of `o`'s sign (unchanged
+/// when `o` is zero or `v` not finite): `next_up` / `next_down` as one
+/// integer step on the bits, one ulp away from zero when `v` and `o` have
+/// the same sign and towards it otherwise.
+#[inline(always)]
+fn away(v: f32, o: f32) -> f32 {
+    if o == 0.0 || !v.is_finite() {
+        return v;
+    }
+    if v == 0.0 {
+        return f32::from_bits(1).copysign(o);
+    }
+    let step = if (v > 0.0) == (o > 0.0) { 1 } else { u32::MAX };
+    f32::from_bits(v.to_bits().wrapping_add(step))
 }
 
 /// A point of a surface with the bound of its error and its geometric normal.
@@ -114,6 +118,30 @@ mod tests {
         assert!((down - p).dot(n) < -reach, "{down} from {p}");
         // No error: the point moves by nothing (no component is offset).
         assert_eq!(offset_origin(p, Vec3::ZERO, n, Vec3::Y), p);
+    }
+
+    #[test]
+    fn one_step_away_is_next_up_or_next_down() {
+        let values = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::from_bits(1),
+            -f32::from_bits(1),
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+            1e5,
+            -3.7e-20,
+        ];
+        for v in values {
+            assert_eq!(away(v, 0.5).to_bits(), v.next_up().to_bits(), "{v} up");
+            assert_eq!(away(v, -2.0).to_bits(), v.next_down().to_bits(), "{v} down");
+            assert_eq!(away(v, 0.0).to_bits(), v.to_bits());
+        }
+        assert_eq!(away(f32::INFINITY, 1.0), f32::INFINITY);
+        assert!(away(f32::NAN, 1.0).is_nan());
     }
 
     #[test]

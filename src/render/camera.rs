@@ -59,11 +59,23 @@ impl CameraRays {
         let film = sampler.next_2d();
         let s = (x as f32 + film.x) / self.size.0;
         let t = 1.0 - (y as f32 + film.y) / self.size.1;
-        let lens = uniform_disk(sampler.next_2d());
-        let offset = self.lens_radius * (lens.x * self.u + lens.y * self.v);
+        // A pinhole needs no lens draw and a closed shutter no time draw;
+        // skipping them keeps every other draw as it was.
+        let offset = if self.lens_radius > 0.0 {
+            let lens = uniform_disk(sampler.next_2d());
+            self.lens_radius * (lens.x * self.u + lens.y * self.v)
+        } else {
+            sampler.skip_2d();
+            Vec3::ZERO
+        };
         let origin = self.origin + offset;
         let to_target = self.lower_left + s * self.horizontal + t * self.vertical - offset;
-        let time = self.shutter.0 + (self.shutter.1 - self.shutter.0) * sampler.next_1d();
+        let time = if self.shutter.1 != self.shutter.0 {
+            self.shutter.0 + (self.shutter.1 - self.shutter.0) * sampler.next_1d()
+        } else {
+            sampler.skip_1d();
+            self.shutter.0
+        };
         Ray::new(origin, to_target.normalize(), time)
     }
 }

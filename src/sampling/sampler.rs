@@ -73,7 +73,8 @@ pub struct Sampler {
     rng: Rng,
     /// Hash of (seed, pixel): the root of every slot's scramble seeds.
     pixel: u64,
-    index: u32,
+    /// The sample index with its bits reversed (as the scrambles read it).
+    reversed_index: u32,
     bounce: u32,
     slot: u32,
 }
@@ -86,7 +87,7 @@ impl Sampler {
             kind,
             rng: Rng::for_sample(seed, x, y, index),
             pixel: mix(seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d)),
-            index,
+            reversed_index: index.reverse_bits(),
             bounce: 0,
             slot: 0,
         }
@@ -129,9 +130,33 @@ impl Sampler {
             SamplerKind::Independent => self.rng.next_f32(),
             SamplerKind::Sobol => {
                 let h = self.slot_seeds();
-                sobol::to_unit(sobol::point1(self.index, [h as u32, (h >> 32) as u32]))
+                sobol::to_unit(sobol::point1_reversed(
+                    self.reversed_index,
+                    [h as u32, (h >> 32) as u32],
+                ))
             }
         }
+    }
+
+    /// Passes over a 1-D draw that would not be used, leaving every later
+    /// draw as it would be had it been made.
+    #[inline]
+    pub fn skip_1d(&mut self) {
+        match self.kind {
+            SamplerKind::Independent => {
+                self.rng.next_u32();
+            }
+            SamplerKind::Sobol => self.slot = self.slot.wrapping_add(1),
+        }
+    }
+
+    /// Passes over a 2-D draw, as [`Sampler::skip_1d`].
+    #[inline]
+    pub fn skip_2d(&mut self) {
+        if self.kind == SamplerKind::Independent {
+            self.rng.next_u32();
+        }
+        self.skip_1d();
     }
 
     /// Two numbers in [0, 1).
@@ -145,7 +170,8 @@ impl Sampler {
             SamplerKind::Sobol => {
                 let h = self.slot_seeds();
                 let third = mix(h) as u32;
-                let (a, b) = sobol::point2(self.index, [h as u32, (h >> 32) as u32, third]);
+                let seeds = [h as u32, (h >> 32) as u32, third];
+                let (a, b) = sobol::point2_reversed(self.reversed_index, seeds);
                 Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
             }
         }
@@ -212,6 +238,22 @@ mod tests {
         b.start_bounce(1);
         b.begin(Dim::Roulette);
         assert_ne!(b.next_1d(), direct);
+    }
+
+    #[test]
+    fn a_skipped_draw_leaves_the_following_ones_unchanged() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let mut drawn = Sampler::for_sample(kind, 4, 5, 6, 7);
+            let mut skipped = drawn.clone();
+            drawn.begin(Dim::Camera);
+            skipped.begin(Dim::Camera);
+            drawn.next_2d();
+            skipped.skip_2d();
+            drawn.next_1d();
+            skipped.skip_1d();
+            assert_eq!(drawn.next_2d(), skipped.next_2d(), "{kind:?}");
+            assert_eq!(drawn.next_1d(), skipped.next_1d(), "{kind:?}");
+        }
     }
 
     #[test]

@@ -111,7 +111,14 @@ pub fn to_unit(x: u32) -> f32 {
 /// written with four bit reversals instead of seven.
 #[inline]
 pub fn point2(index: u32, seeds: [u32; 3]) -> (u32, u32) {
-    let r = upward_mix(index.reverse_bits(), seeds[0]);
+    point2_reversed(index.reverse_bits(), seeds)
+}
+
+/// [`point2`] of the index whose bits reversed are `reversed` (a sampler
+/// reverses its index once, not at every draw).
+#[inline]
+pub fn point2_reversed(reversed: u32, seeds: [u32; 3]) -> (u32, u32) {
+    let r = upward_mix(reversed, seeds[0]);
     (
         upward_mix(r.reverse_bits(), seeds[1]).reverse_bits(),
         upward_mix(sobol1_reversed(r), seeds[2]).reverse_bits(),
@@ -122,7 +129,13 @@ pub fn point2(index: u32, seeds: [u32; 3]) -> (u32, u32) {
 /// [`point2`] (a scrambled van der Corput sequence over a shuffled index).
 #[inline]
 pub fn point1(index: u32, seeds: [u32; 2]) -> u32 {
-    let r = upward_mix(index.reverse_bits(), seeds[0]);
+    point1_reversed(index.reverse_bits(), seeds)
+}
+
+/// [`point1`] of the index whose bits reversed are `reversed`.
+#[inline]
+pub fn point1_reversed(reversed: u32, seeds: [u32; 2]) -> u32 {
+    let r = upward_mix(reversed, seeds[0]);
     upward_mix(r.reverse_bits(), seeds[1]).reverse_bits()
 }
 

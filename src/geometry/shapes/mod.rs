@@ -4,9 +4,11 @@
 
 pub mod cuboid;
 pub mod plane;
+pub mod quad;
 pub mod rect;
 pub mod sphere;
 pub mod triangle;
+pub mod turned_sphere;
 
 use glam::Vec3;
 
@@ -14,9 +16,11 @@ use super::hit::SurfaceUv;
 
 pub use cuboid::Cuboid;
 pub use plane::Plane;
+pub use quad::Quad;
 pub use rect::Rect;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
+pub use turned_sphere::TurnedSphere;
 
 /// A ray/shape intersection before facing is decided.
 #[derive(Clone, Copy, Debug, PartialEq)]
