@@ -199,7 +199,12 @@ fn a_command_line_size_is_charged_to_the_memory_budget() {
     assert!(!png.exists(), "an image was written");
     // 64² pixels (0.5 MB) fit.
     let out = render("64");
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(png.exists(), "no image written");
     std::fs::remove_file(&png).expect("cleans up");
 }

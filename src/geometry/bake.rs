@@ -432,7 +432,7 @@ mod tests {
             q.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
         );
         assert_eq!((want.t, want.point), (got.t, got.point));
-        assert!((want.uv - got.uv).abs().max_element() < 1e-6);
+        assert!((want.uv.get() - got.uv.get()).abs().max_element() < 1e-6);
         // A flipped sphere would need its uv mirrored: it keeps its instance.
         assert!(!flatten(&Mat4::IDENTITY, &flip(sphere), &mut out));
         assert_eq!(out.len(), 1);

@@ -93,7 +93,7 @@ impl Quad {
             point: self.corner + du + dv,
             error: gamma(7) * (self.corner.abs() + du.abs() + dv.abs()),
             normal: n,
-            uv: Vec2::new(u, v),
+            uv: Vec2::new(u, v).into(),
         })
     }
 }
@@ -124,7 +124,7 @@ mod tests {
                 .intersect(&Ray::new(origin, target - origin, 0.0), 0.0, f32::INFINITY)
                 .expect("hits");
             assert!((h.t - 1.0).abs() < 1e-5, "t {}", h.t);
-            assert!((h.uv - Vec2::new(u, v)).abs().max_element() < 1e-5);
+            assert!((h.uv.get() - Vec2::new(u, v)).abs().max_element() < 1e-5);
             assert!(h.point.distance(target) < 1e-5);
             assert_eq!(h.normal, q.normal);
         }

@@ -6,8 +6,8 @@
 
 use glam::Quat;
 
-use super::sphere::sphere_uv;
 use super::{ShapeHit, Sphere};
+use crate::geometry::hit::SurfaceUv;
 use crate::geometry::{Aabb, Ray};
 
 /// A sphere whose uv frame is turned by `to_object` (parent → object).
@@ -27,7 +27,9 @@ impl TurnedSphere {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
         let mut h = self.sphere.intersect(ray, t_min, t_max)?;
-        h.uv = sphere_uv(self.to_object * h.normal);
+        if let SurfaceUv::Sphere(n) = h.uv {
+            h.uv = SurfaceUv::Sphere(self.to_object * n);
+        }
         Some(h)
     }
 }
