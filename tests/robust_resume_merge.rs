@@ -129,7 +129,7 @@ fn sidecars_that_describe_no_render_are_refused_by_merge() {
                 v["width"] = 4_000_000_000u32.into();
                 v["height"] = 4_000_000_000u32.into();
             },
-            "GiB of pixel memory",
+            "GiB for its film",
         ),
         (
             "no samples",

@@ -14,7 +14,7 @@ use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::Span;
 use crate::scene::object::RevolutionMode;
-use crate::scene::{Node, Shape};
+use crate::scene::{Material, Node, Scene, Shape};
 
 /// The budget when none is given: 16 GiB, like the image guard.
 pub const DEFAULT_BUDGET: u64 = 16 << 30;
@@ -28,6 +28,10 @@ pub const BYTES_PER_PRIMITIVE: f64 = 1024.0;
 /// entry, BVH nodes, light entry and the builder's scratch, with the growth
 /// slack of the arrays the tessellation fills.
 pub const BYTES_PER_TRIANGLE: f64 = 400.0;
+/// What an emitting triangle adds: its light entry, its light-tree bounds
+/// (f64), its share of the tree's nodes and the build's scratch. (An
+/// emitting shape's light fits in its `BYTES_PER_PRIMITIVE`.)
+pub const BYTES_PER_LIGHT: f64 = 1024.0;
 /// One shell piece of an analytic revolution: the inner and outer shells'
 /// triangles and their trees.
 pub const BYTES_PER_SHELL: f64 = 1024.0;
@@ -58,7 +62,7 @@ pub fn human(bytes: f64) -> String {
 
 /// The estimated bytes of one node built from an object (children of groups
 /// are charged when they are built themselves).
-pub fn node_bytes(node: &Node, mesh_triangles: impl Fn(usize) -> usize) -> f64 {
+pub fn node_bytes(node: &Node, scene: &Scene) -> f64 {
     match node {
         Node::Shape {
             shape: Shape::Revolution { mode, .. },
@@ -73,13 +77,23 @@ pub fn node_bytes(node: &Node, mesh_triangles: impl Fn(usize) -> usize) -> f64 {
             }
         },
         Node::Shape { .. } | Node::Medium { .. } | Node::Instance(_) => BYTES_PER_PRIMITIVE,
-        Node::Mesh { mesh, .. } => mesh_triangles(mesh.0 as usize) as f64 * BYTES_PER_TRIANGLE,
+        Node::Mesh { mesh, materials } => {
+            let triangles = scene
+                .meshes
+                .get(mesh.0 as usize)
+                .map_or(0, |m| m.triangles.len());
+            let emits = materials
+                .iter()
+                .any(|m| matches!(scene.material(*m), Material::Light { .. }));
+            let light = if emits { BYTES_PER_LIGHT } else { 0.0 };
+            triangles as f64 * (BYTES_PER_TRIANGLE + light)
+        }
         Node::Group(_) | Node::Transform { .. } | Node::Motion { .. } | Node::Flip(_) => 0.0,
     }
 }
 
 /// The estimated bytes of a whole tree (a definition placed by copy).
-pub fn tree_bytes(node: &Node, mesh_triangles: &impl Fn(usize) -> usize) -> f64 {
+pub fn tree_bytes(node: &Node, scene: &Scene) -> f64 {
     let children = match node {
         Node::Group(nodes) => nodes.iter().collect(),
         Node::Transform { child, .. } | Node::Motion { child, .. } | Node::Flip(child) => {
@@ -88,10 +102,10 @@ pub fn tree_bytes(node: &Node, mesh_triangles: &impl Fn(usize) -> usize) -> f64 
         Node::Medium { boundary, .. } => vec![boundary.as_ref()],
         Node::Shape { .. } | Node::Mesh { .. } | Node::Instance(_) => Vec::new(),
     };
-    node_bytes(node, mesh_triangles)
+    node_bytes(node, scene)
         + children
             .into_iter()
-            .map(|c| tree_bytes(c, mesh_triangles))
+            .map(|c| tree_bytes(c, scene))
             .sum::<f64>()
 }
 
@@ -145,15 +159,13 @@ impl Evaluator {
 
     /// Charges the node built from an object.
     pub(super) fn charge_node(&mut self, node: &Node, span: Span) -> Eval<()> {
-        let meshes = &self.scene.meshes;
-        let bytes = node_bytes(node, |i| meshes.get(i).map_or(0, |m| m.triangles.len()));
+        let bytes = node_bytes(node, &self.scene);
         self.charge(bytes, span, "this object")
     }
 
     /// Charges a copy of a whole tree (a definition placed once).
     pub(super) fn charge_tree(&mut self, node: &Node, span: Span) -> Eval<()> {
-        let meshes = &self.scene.meshes;
-        let bytes = tree_bytes(node, &|i| meshes.get(i).map_or(0, |m| m.triangles.len()));
+        let bytes = tree_bytes(node, &self.scene);
         self.charge(bytes, span, "this placement")
     }
 }
