@@ -109,6 +109,7 @@ pub fn check(bytes: &[u8]) -> Option<LineError> {
             "vt" => numbers(args, &[2, 3], "a texture coordinate `vt u v`", end),
             "vn" => numbers(args, &[3], "a normal `vn x y z`", end),
             "f" => face(args, counts, end),
+            "l" => polyline(args, counts, end),
             _ => None,
         };
         if let Some((column, width, message, label)) = problem {
@@ -240,6 +241,33 @@ fn face(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Proble
     None
 }
 
+/// What is wrong with a polyline `l v1 v2 …` (vertices `v` or `v/vt`;
+/// rtlang draws no lines, but tobj refuses a malformed one).
+fn polyline(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Problem> {
+    for &(column, word) in args {
+        let width = word.chars().count();
+        if word.split('/').count() > 2 {
+            let message = format!("`{word}`: a line vertex is `v` or `v/vt`");
+            return Some((column, width, message, "too many `/`"));
+        }
+        if let Some((message, label)) = face_vertex(word, counts) {
+            return Some((column, width, message, label));
+        }
+    }
+    if args.len() < 2 {
+        return Some((
+            args.last().map_or(end, |&(c, w)| c + w.chars().count()),
+            1,
+            format!(
+                "a line with {} vertices: a line needs at least 2",
+                args.len()
+            ),
+            "a second vertex is missing",
+        ));
+    }
+    None
+}
+
 /// What is wrong with one face vertex `v/vt/vn` given the counts so far.
 fn face_vertex(word: &str, counts: [usize; 3]) -> Option<(String, &'static str)> {
     const KINDS: [&str; 3] = ["position", "texture coordinate", "normal"];
@@ -353,6 +381,20 @@ mod tests {
         let (_, column, _, message) = at(&format!("{TRI}f 1 2 3/1/1/1\n"));
         assert_eq!(column, 7);
         assert!(message.contains("4 parts"), "{message}");
+    }
+
+    #[test]
+    fn polylines_are_checked_like_faces() {
+        let (line, column, _, message) = at(&format!("{TRI}l 1 x\n"));
+        assert_eq!((line, column), (4, 5));
+        assert!(message.contains("not a position index"), "{message}");
+        let (_, column, _, message) = at(&format!("{TRI}l 1\n"));
+        assert_eq!(column, 4);
+        assert!(message.contains("at least 2"), "{message}");
+        let (_, column, _, message) = at(&format!("{TRI}l 1 2//3\n"));
+        assert_eq!(column, 5);
+        assert!(message.contains("`v` or `v/vt`"), "{message}");
+        assert!(check(format!("{TRI}l 1 2 3 -1\n").as_bytes()).is_none());
     }
 
     #[test]
