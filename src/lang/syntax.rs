@@ -61,8 +61,8 @@ pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<
 }
 
 /// Parses a whole file, reporting every syntax error: token-level ones
-/// ([`lexical::check`]) first, and when there are none, each grammar error
-/// with parsing resumed at the next item boundary.
+/// ([`lexical::check`]) and each grammar error, with parsing resumed at the
+/// next item boundary (items holding a token-level error are skipped).
 ///
 /// A long file is cut where [`scan::check`] finds an item boundary and the
 /// pieces are parsed on all cores; the result is the same as one sequential
@@ -80,7 +80,7 @@ pub fn parse_all(text: &str, file: u32) -> Parsed {
     };
     let lexical = lexical::check(text, file);
     if !lexical.is_empty() {
-        return failed(lexical);
+        return failed(with_grammar_errors(text, file, lexical));
     }
     if cuts.len() > 2 {
         let parsed: Result<Vec<_>, _> = cuts
@@ -102,6 +102,32 @@ pub fn parse_all(text: &str, file: u32) -> Parsed {
         }
     }
     parse_recovering(text, file)
+}
+
+/// The token-level errors of a file followed (in source order) by the
+/// grammar errors of the items they do not touch: each item holding a
+/// token-level error is blanked (offsets kept) and the rest is parsed with
+/// recovery, so a later unrelated syntax error is reported in the same run.
+/// At most [`MAX_SYNTAX_ERRORS`] in all.
+fn with_grammar_errors(text: &str, file: u32, lexical: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let mut blanked = text.as_bytes().to_vec();
+    for d in &lexical {
+        let at = d.span.map_or(0, |s| s.start as usize).min(text.len());
+        let start = scan::item_start(text, at);
+        let end = scan::next_item(text, at).unwrap_or(text.len());
+        for b in &mut blanked[start..end] {
+            if *b != b'\n' {
+                *b = b' ';
+            }
+        }
+    }
+    // Only ASCII bytes were written, over whole bytes of the valid text.
+    let blanked = String::from_utf8_lossy(&blanked);
+    let mut errors = lexical;
+    errors.extend(parse_recovering(&blanked, file).syntax_errors);
+    errors.sort_by_key(|d| d.span.map(|s| s.start));
+    errors.truncate(MAX_SYNTAX_ERRORS);
+    errors
 }
 
 /// Parses the items in `text[start..end]`, with spans in the whole file;
