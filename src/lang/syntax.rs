@@ -881,10 +881,38 @@ impl Lower {
             }
             _ => {
                 let axis = self.expr(first);
-                TransformKind::Rotate(axis, self.expr(next(&mut inner)))
+                let angle = self.expr(next(&mut inner));
+                self.swapped_rotate(axis, angle)
             }
         };
         Transform { kind, span }
+    }
+
+    /// `rotate 45 y`: the angle before the axis. Reported at the angle and
+    /// read as `rotate y 45`, so no follow-on type or name errors come.
+    fn swapped_rotate(&mut self, axis: Expr, angle: Expr) -> TransformKind {
+        let named_axis = match &angle.kind {
+            ExprKind::Name(n) if n == "x" => Some(Axis::X),
+            ExprKind::Name(n) if n == "y" => Some(Axis::Y),
+            ExprKind::Name(n) if n == "z" => Some(Axis::Z),
+            _ => None,
+        };
+        let (Some(named), ExprKind::Number(degrees)) = (named_axis, &axis.kind) else {
+            return TransformKind::Rotate(axis, angle);
+        };
+        let letter = ["x", "y", "z"][named as usize];
+        self.diagnostics.push(
+            Diagnostic::error(
+                Code::Syntax,
+                axis.span,
+                format!("the axis comes first: `rotate {letter} {degrees}`"),
+            )
+            .label("an angle where the axis belongs")
+            .help(format!(
+                "write the axis, then the angle in degrees: `rotate {letter} {degrees}`"
+            )),
+        );
+        TransformKind::RotateAxis(named, axis)
     }
 
     fn object(&mut self, pair: Pair<Rule>) -> Object {

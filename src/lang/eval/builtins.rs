@@ -14,6 +14,7 @@ use crate::lang::ast::{Arg, Ident};
 use crate::lang::builtins::{Body, Builtin};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::names;
+use crate::lang::pretty;
 use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
 use crate::scene::{Material, Texture};
@@ -63,6 +64,9 @@ impl Evaluator {
                 .help(help),
             ));
         };
+        if let Some(d) = misnamed_positional(callee, sig, args) {
+            return Err(self.report(d));
+        }
         let mut failed = false;
         let positional = args.iter().filter(|a| a.name.is_none()).count();
         if positional < sig.min || positional > sig.max {
@@ -447,4 +451,47 @@ impl Evaluator {
             points: pts.iter().map(|p| p.as_vec2()).collect(),
         })))
     }
+}
+
+/// "`ior` is positional" when a keyword argument names one of the
+/// built-in's positional parameters (as in `dielectric(ior: 1.5)`), with
+/// the call written without that name as the help.
+fn misnamed_positional(callee: &Ident, sig: &Builtin, args: &[Arg]) -> Option<Diagnostic> {
+    let params = sig.usage.split_once('(')?.1.trim_end_matches(')');
+    let positional: Vec<&str> = params
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.contains(':'))
+        .collect();
+    let name = args.iter().find_map(|a| {
+        a.name
+            .as_ref()
+            .filter(|n| !sig.keywords.contains(&n.name.as_str()))
+            .filter(|n| positional.contains(&n.name.as_str()))
+    })?;
+    let fixed: Vec<String> = args
+        .iter()
+        .map(|a| match &a.name {
+            Some(n) if positional.contains(&n.name.as_str()) => pretty::expr(&a.value),
+            Some(n) => format!("{}: {}", n.name, pretty::expr(&a.value)),
+            None => pretty::expr(&a.value),
+        })
+        .collect();
+    Some(
+        Diagnostic::error(
+            Code::UnknownArgument,
+            name.span,
+            format!(
+                "`{}` is a positional argument of `{}`, not a keyword",
+                name.name, callee.name
+            ),
+        )
+        .label("give it without the name")
+        .help(format!(
+            "write `{}({})`; usage: {}",
+            callee.name,
+            fixed.join(", "),
+            sig.usage
+        )),
+    )
 }
