@@ -10,7 +10,7 @@ use glam::DVec3;
 use super::math;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
-use crate::lang::ast::{Arg, Ident};
+use crate::lang::ast::{Arg, Expr, Ident};
 use crate::lang::builtins::{Body, Builtin};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::names;
@@ -86,7 +86,7 @@ impl Evaluator {
                     ),
                 )
                 .label("wrong number of arguments")
-                .help(format!("usage: {}", sig.usage)),
+                .help(extra_as_keywords(callee, sig, args)),
             );
             failed = true;
         }
@@ -493,5 +493,36 @@ fn misnamed_positional(callee: &Ident, sig: &Builtin, args: &[Arg]) -> Option<Di
             fixed.join(", "),
             sig.usage
         )),
+    )
+}
+
+/// The help of a call with too many positional arguments: when the
+/// built-in takes keyword arguments, the extra values written with their
+/// names in order (`metal(c, 0.3)` → `metal(c, fuzz: 0.3)`).
+fn extra_as_keywords(callee: &Ident, sig: &Builtin, args: &[Arg]) -> String {
+    let usage = format!("usage: {}", sig.usage);
+    let values: Vec<&Expr> = args
+        .iter()
+        .filter(|a| a.name.is_none())
+        .map(|a| &a.value)
+        .collect();
+    let extra = values.len().saturating_sub(sig.max);
+    let named = args.iter().any(|a| a.name.is_some());
+    if extra == 0 || extra > sig.keywords.len() || named {
+        return usage;
+    }
+    let fixed: Vec<String> = values
+        .iter()
+        .enumerate()
+        .map(|(i, v)| match i.checked_sub(sig.max) {
+            Some(k) => format!("{}: {}", sig.keywords[k], pretty::expr(v)),
+            None => pretty::expr(v),
+        })
+        .collect();
+    format!(
+        "give the extra argument{} by name: `{}({})`; {usage}",
+        if extra == 1 { "" } else { "s" },
+        callee.name,
+        fixed.join(", ")
     )
 }
