@@ -126,8 +126,26 @@ fn with_grammar_errors(text: &str, file: u32, lexical: Vec<Diagnostic>) -> Vec<D
     let mut errors = lexical;
     errors.extend(parse_recovering(&blanked, file).syntax_errors);
     errors.sort_by_key(|d| d.span.map(|s| s.start));
-    errors.truncate(MAX_SYNTAX_ERRORS);
+    if let Some(next) = errors.get(MAX_SYNTAX_ERRORS).and_then(|d| d.span) {
+        errors.truncate(MAX_SYNTAX_ERRORS);
+        errors.push(stopped(Span::new(
+            file,
+            next.start as usize,
+            next.start as usize,
+        )));
+    }
     errors
+}
+
+/// The note that ends a file's list of syntax errors at the cap.
+fn stopped(at: Span) -> Diagnostic {
+    Diagnostic::error(
+        Code::Syntax,
+        at,
+        format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
+    )
+    .label("not parsed from here on")
+    .help("fix the errors above first; later ones are often caused by them")
 }
 
 /// Parses the items in `text[start..end]`, with spans in the whole file;
@@ -193,17 +211,7 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
                 let resume = scan::next_item(text, at.max(item_start));
                 if errors.len() >= MAX_SYNTAX_ERRORS {
                     if let Some(resume) = resume {
-                        errors.push(
-                            Diagnostic::error(
-                                Code::Syntax,
-                                Span::new(file, resume, resume),
-                                format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
-                            )
-                            .label("not parsed from here on")
-                            .help(
-                                "fix the errors above first; later ones are often caused by them",
-                            ),
-                        );
+                        errors.push(stopped(Span::new(file, resume, resume)));
                     }
                     break;
                 }
