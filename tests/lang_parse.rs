@@ -121,3 +121,41 @@ fn parsing_in_pieces_matches_parsing_in_one() {
     assert_eq!(one.message, four.message);
     assert!(one.span.is_some_and(|s| s.start as usize > text.len() / 2));
 }
+
+/// Token-level errors do not hide the grammar errors of other items, and
+/// the two kinds together stop at the cap, in source order, with the
+/// "stopped after" error at the first one left out.
+#[test]
+fn token_errors_and_grammar_errors_share_one_capped_list() {
+    let mut text = String::from("let m = lambertian(rgb(1, 1, 1))\n");
+    for i in 0..12 {
+        if i % 2 == 0 {
+            text.push_str(&format!("let s{i} = \"open\n"));
+        } else {
+            text.push_str("sphere { radius 1 material m @ }\n");
+        }
+    }
+    let errors = syntax::parse_all(&text, 0).syntax_errors;
+    let messages: Vec<&str> = errors.iter().map(|d| d.message.as_str()).collect();
+    assert_eq!(errors.len(), syntax::MAX_SYNTAX_ERRORS + 1, "{messages:?}");
+    for (k, m) in messages[..syntax::MAX_SYNTAX_ERRORS].iter().enumerate() {
+        let token = *m == "unterminated string";
+        assert_eq!(token, k % 2 == 0, "error {k}: {m}");
+    }
+    let starts: Vec<u32> = errors
+        .iter()
+        .filter_map(|d| d.span.map(|s| s.start))
+        .collect();
+    assert!(starts.windows(2).all(|w| w[0] <= w[1]), "{starts:?}");
+    let last = &errors[syntax::MAX_SYNTAX_ERRORS];
+    assert!(
+        last.message.starts_with("stopped after"),
+        "{}",
+        last.message
+    );
+    let eleventh = text
+        .match_indices("let s10")
+        .next()
+        .map(|(p, _)| p as u32 + 10);
+    assert_eq!(last.span.map(|s| s.start), eleventh);
+}

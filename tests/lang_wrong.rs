@@ -11,16 +11,7 @@ use rtlang::lang::{self, diagnostics::render_plain, Options};
 
 /// Files whose first error is known NOT to be at the real cause yet, with
 /// why. The test fails if one of them starts passing, so the list stays true.
-const KNOWN_POOR: &[(&str, &str)] = &[
-    (
-        "dielectric_keyword.rt",
-        "`dielectric(ior: 1.5)` says \"takes 1 positional argument, 0 given\", not that `ior` is positional",
-    ),
-    (
-        "rotate_swapped.rt",
-        "`rotate 45 y` says \"expected a 3-vector, found a number\" instead of \"the axis comes first\"",
-    ),
-];
+const KNOWN_POOR: &[(&str, &str)] = &[];
 
 #[test]
 fn every_wrong_scene_is_reported_at_its_cause() {

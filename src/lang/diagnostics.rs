@@ -103,6 +103,7 @@ impl Diagnostic {
             NamedSource::new(file.name.clone(), file.text.to_string())
         });
         let mut labels = Vec::new();
+        let mut elsewhere = Vec::new();
         if let Some(span) = self.span {
             labels.push(LabeledSpan::new_primary_with_span(
                 Some(self.label.clone()).filter(|l| !l.is_empty()),
@@ -114,6 +115,8 @@ impl Diagnostic {
                         Some(text.clone()),
                         to_source_span(*other),
                     ));
+                } else if other.file != span.file {
+                    elsewhere.push(Elsewhere::new(sources, *other, text));
                 }
             }
         }
@@ -121,6 +124,7 @@ impl Diagnostic {
             diagnostic: self.clone(),
             source,
             labels,
+            elsewhere,
         })
     }
 
@@ -180,6 +184,51 @@ struct Rendered {
     diagnostic: Diagnostic,
     source: Option<NamedSource<String>>,
     labels: Vec<LabeledSpan>,
+    /// The labels that point into another file than the main span's (a
+    /// call site, say), each shown as a snippet of its own file.
+    elsewhere: Vec<Elsewhere>,
+}
+
+/// A secondary label in another file, rendered by miette as a related
+/// report (`☞ in this call of ...` above a snippet of the other file).
+#[derive(Debug)]
+struct Elsewhere {
+    message: String,
+    source: NamedSource<String>,
+    label: LabeledSpan,
+}
+
+impl Elsewhere {
+    fn new(sources: &SourceMap, span: Span, label: &str) -> Elsewhere {
+        let file = sources.file(span.file);
+        Elsewhere {
+            message: label.to_string(),
+            source: NamedSource::new(file.name.clone(), file.text.to_string()),
+            label: LabeledSpan::new_primary_with_span(None, to_source_span(span)),
+        }
+    }
+}
+
+impl fmt::Display for Elsewhere {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Elsewhere {}
+
+impl miette::Diagnostic for Elsewhere {
+    fn severity(&self) -> Option<miette::Severity> {
+        Some(miette::Severity::Advice)
+    }
+
+    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+        Some(&self.source)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        Some(Box::new(std::iter::once(self.label.clone())))
+    }
 }
 
 impl fmt::Display for Rendered {
@@ -227,6 +276,16 @@ impl miette::Diagnostic for Rendered {
             None
         } else {
             Some(Box::new(self.labels.iter().cloned()))
+        }
+    }
+
+    fn related<'a>(&'a self) -> Option<Box<dyn Iterator<Item = &'a dyn miette::Diagnostic> + 'a>> {
+        if self.elsewhere.is_empty() {
+            None
+        } else {
+            Some(Box::new(
+                self.elsewhere.iter().map(|e| e as &dyn miette::Diagnostic),
+            ))
         }
     }
 }

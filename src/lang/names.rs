@@ -53,3 +53,35 @@ pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
         .min_by_key(|(d, c)| (*d, *c))
         .map(|(_, c)| c)
 }
+
+/// For a colour or material name a user may expect to be predefined (`red`,
+/// `glass`), how to write it, since the language predefines none.
+pub fn common_value(name: &str) -> Option<String> {
+    let colour = match name {
+        "red" => Some("rgb(0.8, 0.1, 0.1)"),
+        "green" => Some("rgb(0.1, 0.8, 0.1)"),
+        "blue" => Some("rgb(0.1, 0.1, 0.8)"),
+        "white" => Some("rgb(1, 1, 1)"),
+        "black" => Some("rgb(0, 0, 0)"),
+        "grey" | "gray" => Some("rgb(0.5, 0.5, 0.5)"),
+        "yellow" => Some("rgb(0.8, 0.8, 0.1)"),
+        "orange" => Some("rgb(1, 0.5, 0)"),
+        _ => None,
+    };
+    if let Some(c) = colour {
+        return Some(format!(
+            "colours have no names: write `{c}`, or define it once with `let {name} = {c}`"
+        ));
+    }
+    let material = match name {
+        "glass" | "water" | "diamond" => "dielectric(1.5)",
+        "mirror" | "chrome" | "steel" | "silver" => "metal(rgb(0.9, 0.9, 0.9))",
+        "gold" => "metal(rgb(1, 0.8, 0.3))",
+        "matte" | "diffuse" | "plastic" => "lambertian(rgb(0.8, 0.8, 0.8))",
+        "emissive" | "lamp" => "light(rgb(4, 4, 4))",
+        _ => return None,
+    };
+    Some(format!(
+        "materials have no names: write `{material}`, or define it once with `let {name} = {material}`"
+    ))
+}

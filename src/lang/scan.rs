@@ -139,6 +139,17 @@ pub fn next_item(text: &str, from: usize) -> Option<usize> {
     }
 }
 
+/// The start of the line (at or before `at`) that begins with an item
+/// keyword in column 0, or 0: the start of the item holding `at`.
+pub fn item_start(text: &str, at: usize) -> usize {
+    let bytes = text.as_bytes();
+    let mut line = text[..at].rfind('\n').map_or(0, |p| p + 1);
+    while line > 0 && !starts_an_item(&bytes[line..]) {
+        line = text[..line - 1].rfind('\n').map_or(0, |p| p + 1);
+    }
+    line
+}
+
 /// Whether `rest` begins with an item keyword followed by a non-name byte.
 fn starts_an_item(rest: &[u8]) -> bool {
     ITEM_KEYWORDS.iter().any(|k| {

@@ -61,8 +61,8 @@ pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<
 }
 
 /// Parses a whole file, reporting every syntax error: token-level ones
-/// ([`lexical::check`]) first, and when there are none, each grammar error
-/// with parsing resumed at the next item boundary.
+/// ([`lexical::check`]) and each grammar error, with parsing resumed at the
+/// next item boundary (items holding a token-level error are skipped).
 ///
 /// A long file is cut where [`scan::check`] finds an item boundary and the
 /// pieces are parsed on all cores; the result is the same as one sequential
@@ -80,7 +80,7 @@ pub fn parse_all(text: &str, file: u32) -> Parsed {
     };
     let lexical = lexical::check(text, file);
     if !lexical.is_empty() {
-        return failed(lexical);
+        return failed(with_grammar_errors(text, file, lexical));
     }
     if cuts.len() > 2 {
         let parsed: Result<Vec<_>, _> = cuts
@@ -102,6 +102,50 @@ pub fn parse_all(text: &str, file: u32) -> Parsed {
         }
     }
     parse_recovering(text, file)
+}
+
+/// The token-level errors of a file followed (in source order) by the
+/// grammar errors of the items they do not touch: each item holding a
+/// token-level error is blanked (offsets kept) and the rest is parsed with
+/// recovery, so a later unrelated syntax error is reported in the same run.
+/// At most [`MAX_SYNTAX_ERRORS`] in all.
+fn with_grammar_errors(text: &str, file: u32, lexical: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let mut blanked = text.as_bytes().to_vec();
+    for d in &lexical {
+        let at = d.span.map_or(0, |s| s.start as usize).min(text.len());
+        let start = scan::item_start(text, at);
+        let end = scan::next_item(text, at).unwrap_or(text.len());
+        for b in &mut blanked[start..end] {
+            if *b != b'\n' {
+                *b = b' ';
+            }
+        }
+    }
+    // Only ASCII bytes were written, over whole bytes of the valid text.
+    let blanked = String::from_utf8_lossy(&blanked);
+    let mut errors = lexical;
+    errors.extend(parse_recovering(&blanked, file).syntax_errors);
+    errors.sort_by_key(|d| d.span.map(|s| s.start));
+    if let Some(next) = errors.get(MAX_SYNTAX_ERRORS).and_then(|d| d.span) {
+        errors.truncate(MAX_SYNTAX_ERRORS);
+        errors.push(stopped(Span::new(
+            file,
+            next.start as usize,
+            next.start as usize,
+        )));
+    }
+    errors
+}
+
+/// The note that ends a file's list of syntax errors at the cap.
+fn stopped(at: Span) -> Diagnostic {
+    Diagnostic::error(
+        Code::Syntax,
+        at,
+        format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
+    )
+    .label("not parsed from here on")
+    .help("fix the errors above first; later ones are often caused by them")
 }
 
 /// Parses the items in `text[start..end]`, with spans in the whole file;
@@ -167,17 +211,7 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
                 let resume = scan::next_item(text, at.max(item_start));
                 if errors.len() >= MAX_SYNTAX_ERRORS {
                     if let Some(resume) = resume {
-                        errors.push(
-                            Diagnostic::error(
-                                Code::Syntax,
-                                Span::new(file, resume, resume),
-                                format!("stopped after {MAX_SYNTAX_ERRORS} syntax errors"),
-                            )
-                            .label("not parsed from here on")
-                            .help(
-                                "fix the errors above first; later ones are often caused by them",
-                            ),
-                        );
+                        errors.push(stopped(Span::new(file, resume, resume)));
                     }
                     break;
                 }
@@ -855,10 +889,38 @@ impl Lower {
             }
             _ => {
                 let axis = self.expr(first);
-                TransformKind::Rotate(axis, self.expr(next(&mut inner)))
+                let angle = self.expr(next(&mut inner));
+                self.swapped_rotate(axis, angle)
             }
         };
         Transform { kind, span }
+    }
+
+    /// `rotate 45 y`: the angle before the axis. Reported at the angle and
+    /// read as `rotate y 45`, so no follow-on type or name errors come.
+    fn swapped_rotate(&mut self, axis: Expr, angle: Expr) -> TransformKind {
+        let named_axis = match &angle.kind {
+            ExprKind::Name(n) if n == "x" => Some(Axis::X),
+            ExprKind::Name(n) if n == "y" => Some(Axis::Y),
+            ExprKind::Name(n) if n == "z" => Some(Axis::Z),
+            _ => None,
+        };
+        let (Some(named), ExprKind::Number(degrees)) = (named_axis, &axis.kind) else {
+            return TransformKind::Rotate(axis, angle);
+        };
+        let letter = ["x", "y", "z"][named as usize];
+        self.diagnostics.push(
+            Diagnostic::error(
+                Code::Syntax,
+                axis.span,
+                format!("the axis comes first: `rotate {letter} {degrees}`"),
+            )
+            .label("an angle where the axis belongs")
+            .help(format!(
+                "write the axis, then the angle in degrees: `rotate {letter} {degrees}`"
+            )),
+        );
+        TransformKind::RotateAxis(named, axis)
     }
 
     fn object(&mut self, pair: Pair<Rule>) -> Object {

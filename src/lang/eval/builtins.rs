@@ -10,10 +10,11 @@ use glam::DVec3;
 use super::math;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
-use crate::lang::ast::{Arg, Ident};
+use crate::lang::ast::{Arg, Expr, Ident};
 use crate::lang::builtins::{Body, Builtin};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::names;
+use crate::lang::pretty;
 use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
 use crate::scene::{Material, Texture};
@@ -63,6 +64,9 @@ impl Evaluator {
                 .help(help),
             ));
         };
+        if let Some(d) = misnamed_positional(callee, sig, args) {
+            return Err(self.report(d));
+        }
         let mut failed = false;
         let positional = args.iter().filter(|a| a.name.is_none()).count();
         if positional < sig.min || positional > sig.max {
@@ -82,7 +86,7 @@ impl Evaluator {
                     ),
                 )
                 .label("wrong number of arguments")
-                .help(format!("usage: {}", sig.usage)),
+                .help(extra_as_keywords(callee, sig, args)),
             );
             failed = true;
         }
@@ -447,4 +451,78 @@ impl Evaluator {
             points: pts.iter().map(|p| p.as_vec2()).collect(),
         })))
     }
+}
+
+/// "`ior` is positional" when a keyword argument names one of the
+/// built-in's positional parameters (as in `dielectric(ior: 1.5)`), with
+/// the call written without that name as the help.
+fn misnamed_positional(callee: &Ident, sig: &Builtin, args: &[Arg]) -> Option<Diagnostic> {
+    let params = sig.usage.split_once('(')?.1.trim_end_matches(')');
+    let positional: Vec<&str> = params
+        .split(',')
+        .map(str::trim)
+        .filter(|p| !p.contains(':'))
+        .collect();
+    let name = args.iter().find_map(|a| {
+        a.name
+            .as_ref()
+            .filter(|n| !sig.keywords.contains(&n.name.as_str()))
+            .filter(|n| positional.contains(&n.name.as_str()))
+    })?;
+    let fixed: Vec<String> = args
+        .iter()
+        .map(|a| match &a.name {
+            Some(n) if positional.contains(&n.name.as_str()) => pretty::expr(&a.value),
+            Some(n) => format!("{}: {}", n.name, pretty::expr(&a.value)),
+            None => pretty::expr(&a.value),
+        })
+        .collect();
+    Some(
+        Diagnostic::error(
+            Code::UnknownArgument,
+            name.span,
+            format!(
+                "`{}` is a positional argument of `{}`, not a keyword",
+                name.name, callee.name
+            ),
+        )
+        .label("give it without the name")
+        .help(format!(
+            "write `{}({})`; usage: {}",
+            callee.name,
+            fixed.join(", "),
+            sig.usage
+        )),
+    )
+}
+
+/// The help of a call with too many positional arguments: when the
+/// built-in takes keyword arguments, the extra values written with their
+/// names in order (`metal(c, 0.3)` → `metal(c, fuzz: 0.3)`).
+fn extra_as_keywords(callee: &Ident, sig: &Builtin, args: &[Arg]) -> String {
+    let usage = format!("usage: {}", sig.usage);
+    let values: Vec<&Expr> = args
+        .iter()
+        .filter(|a| a.name.is_none())
+        .map(|a| &a.value)
+        .collect();
+    let extra = values.len().saturating_sub(sig.max);
+    let named = args.iter().any(|a| a.name.is_some());
+    if extra == 0 || extra > sig.keywords.len() || named {
+        return usage;
+    }
+    let fixed: Vec<String> = values
+        .iter()
+        .enumerate()
+        .map(|(i, v)| match i.checked_sub(sig.max) {
+            Some(k) => format!("{}: {}", sig.keywords[k], pretty::expr(v)),
+            None => pretty::expr(v),
+        })
+        .collect();
+    format!(
+        "give the extra argument{} by name: `{}({})`; {usage}",
+        if extra == 1 { "" } else { "s" },
+        callee.name,
+        fixed.join(", ")
+    )
 }

@@ -304,7 +304,8 @@ impl Evaluator {
                     None => format!("did you mean `{s}`?"),
                 }
             }
-            None => "define it with `let` (anywhere at top level)".to_string(),
+            None => names::common_value(name)
+                .unwrap_or_else(|| "define it with `let` (anywhere at top level)".to_string()),
         };
         self.report(
             Diagnostic::error(
