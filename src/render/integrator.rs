@@ -15,12 +15,14 @@
 use glam::Vec3;
 
 use super::bsdf::BsdfSample;
+use super::camera::CameraRays;
 use super::lights::LightList;
 use super::material;
+use super::options::RenderOptions;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
-use crate::sampling::{Dim, Sampler};
+use crate::sampling::{Dim, Sampler, SamplerKind};
 use crate::scene::{Background, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
@@ -69,7 +71,42 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-impl Tracer<'_> {
+impl<'a> Tracer<'a> {
+    /// The tracer a render with `options` uses, over the light list built
+    /// for those options ([`LightList::for_render`]).
+    pub fn for_options(
+        scene: &'a Scene,
+        world: &'a World,
+        lights: &'a LightList,
+        options: &RenderOptions,
+    ) -> Tracer<'a> {
+        Tracer {
+            scene,
+            world,
+            lights,
+            max_depth: options.max_depth,
+            light_sampling: options.light_sampling,
+        }
+    }
+
+    /// The radiance of sample `index` of pixel `(x, y)` and the rays traced
+    /// for it: the one place a sample's random stream, camera ray and path
+    /// are tied together, shared by the film and by the preview's probe so
+    /// that a probe re-traces exactly the film's samples.
+    #[inline]
+    pub fn sample(
+        &self,
+        camera: &CameraRays,
+        kind: SamplerKind,
+        seed: u64,
+        (x, y): (u32, u32),
+        index: u32,
+    ) -> (Vec3, u32) {
+        let mut sampler = Sampler::for_sample(kind, seed, x, y, index);
+        let ray = camera.ray(x, y, &mut sampler);
+        self.radiance(ray, &mut sampler)
+    }
+
     /// The radiance arriving along `ray` (unit direction) and the number of
     /// rays traced for it (shadow rays included).
     #[inline]

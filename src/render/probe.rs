@@ -52,19 +52,11 @@ pub fn estimate(
 ) -> PixelEstimate {
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
     let lights = LightList::for_render(scene, options.light_sampling, options.light_selection);
-    let tracer = Tracer {
-        scene,
-        world,
-        lights: &lights,
-        max_depth: options.max_depth,
-        light_sampling: options.light_sampling,
-    };
+    let tracer = Tracer::for_options(scene, world, &lights, options);
     let first = options.first_sample().unwrap_or(0);
     let (mut sum, mut sq, mut kept) = (Vec3::ZERO, glam::DVec3::ZERO, 0u32);
     for s in 0..samples {
-        let mut sampler = Sampler::for_sample(options.sampler, options.seed, x, y, first + s);
-        let ray = camera.ray(x, y, &mut sampler);
-        let (l, _) = tracer.radiance(ray, &mut sampler);
+        let (l, _) = tracer.sample(&camera, options.sampler, options.seed, (x, y), first + s);
         if l.is_finite() {
             sum += l;
             sq += l.as_dvec3() * l.as_dvec3();

@@ -19,7 +19,7 @@ use super::integrator::Tracer;
 use super::lights::LightList;
 use super::options::{Crop, OptionsError, RenderOptions};
 use crate::geometry::World;
-use crate::sampling::{Sampler, SamplerKind};
+use crate::sampling::SamplerKind;
 use crate::scene::Scene;
 
 /// Tile edge in pixels.
@@ -124,13 +124,7 @@ pub fn render_film(
     let tiles = tiles_of(region);
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
     let lights = LightList::for_render(scene, options.light_sampling, options.light_selection);
-    let tracer = Tracer {
-        scene,
-        world,
-        lights: &lights,
-        max_depth: options.max_depth,
-        light_sampling: options.light_sampling,
-    };
+    let tracer = Tracer::for_options(scene, world, &lights, options);
     let pool = match options.threads {
         None => None,
         Some(n) => Some(
@@ -302,10 +296,13 @@ impl Job<'_> {
                         }
                     }
                     traced += 1;
-                    let mut sampler =
-                        Sampler::for_sample(self.sampler, self.seed, x, y, self.first + s);
-                    let ray = self.camera.ray(x, y, &mut sampler);
-                    let (mut l, rays) = self.tracer.radiance(ray, &mut sampler);
+                    let (mut l, rays) = self.tracer.sample(
+                        self.camera,
+                        self.sampler,
+                        self.seed,
+                        (x, y),
+                        self.first + s,
+                    );
                     if let Some(c) = self.clamp {
                         l = clamp_radiance(l, c);
                     }
