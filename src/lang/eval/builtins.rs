@@ -95,15 +95,7 @@ impl Evaluator {
         for arg in args {
             match &arg.name {
                 None if seen_named => {
-                    self.report(
-                        Diagnostic::error(
-                            Code::ArgumentOrder,
-                            arg.value.span,
-                            "a positional argument after a keyword argument",
-                        )
-                        .label("positional")
-                        .help("put positional arguments first"),
-                    );
+                    self.report(positional_after_keyword(arg.value.span));
                     failed = true;
                 }
                 None => {}
@@ -525,4 +517,16 @@ fn extra_as_keywords(callee: &Ident, sig: &Builtin, args: &[Arg]) -> String {
         callee.name,
         fixed.join(", ")
     )
+}
+
+/// The error of a positional argument written after a keyword argument, in
+/// a call of a built-in or of a user function.
+pub(super) fn positional_after_keyword(span: Span) -> Diagnostic {
+    Diagnostic::error(
+        Code::ArgumentOrder,
+        span,
+        "a positional argument after a keyword argument",
+    )
+    .label("positional")
+    .help("put positional arguments first")
 }

@@ -8,6 +8,7 @@ use crate::lang::codes::Code;
 use std::collections::HashSet;
 use std::rc::Rc;
 
+use super::builtins::positional_after_keyword;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{
@@ -192,15 +193,7 @@ impl Evaluator {
         for arg in args {
             let slot = match &arg.name {
                 None if seen_named => {
-                    self.report(
-                        Diagnostic::error(
-                            Code::ArgumentOrder,
-                            arg.value.span,
-                            "a positional argument after a keyword argument",
-                        )
-                        .label("positional")
-                        .help("put positional arguments first"),
-                    );
+                    self.report(positional_after_keyword(arg.value.span));
                     None
                 }
                 None => {
