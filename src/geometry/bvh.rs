@@ -2,18 +2,21 @@
 //! as a binary tree, then collapsed into a 4-wide tree whose nodes hold their
 //! children's boxes as lanes (structure of arrays), so one node visit tests
 //! four boxes at once. It is traversed iteratively with a fixed-size stack of
-//! inner nodes, nearest child first, leaves visited as soon as their box is
+//! inner nodes, nearest child first (visited next without a push), leaves visited as soon as their box is
 //! hit, entries farther than the closest hit so far skipped, without
 //! allocation.
 //!
-//! The four-lane box test is portable code over `[f32; 4]` that the compiler
-//! turns into SSE instructions (min/max written as the comparisons `maxps` and
-//! `minps` implement), so no SIMD crate and no `unsafe` are needed.
+//! The four-lane box test uses `wide`'s `f32x4` (SSE), so it is branch-free
+//! SIMD whatever the optimiser decides; the children hit are ordered by a
+//! sorting network of integer minima and maxima, and the stack is an
+//! `ArrayVec` that is not zero-filled per ray.
 //!
 //! The hierarchy knows only boxes: the caller reorders its primitives by the
 //! permutation [`Bvh::build`] returns and intersects them in a visitor closure.
 
+use arrayvec::ArrayVec;
 use glam::Vec3;
+use wide::{f32x4, CmpLe};
 
 use super::{Aabb, Ray};
 
@@ -71,26 +74,6 @@ struct BuildItem {
     index: u32,
 }
 
-/// `a` if it is greater, else `b` (also when either is NaN), as `maxps`.
-#[inline(always)]
-fn lane_max(a: f32, b: f32) -> f32 {
-    if a > b {
-        a
-    } else {
-        b
-    }
-}
-
-/// `a` if it is smaller, else `b` (also when either is NaN), as `minps`.
-#[inline(always)]
-fn lane_min(a: f32, b: f32) -> f32 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
 /// A ray prepared for box tests: origin, reciprocal direction, and for each
 /// axis which bound row the ray meets first.
 struct BoxRay {
@@ -133,27 +116,23 @@ impl BvhNode {
     }
 
     /// The entry distance of the ray into each child's box within
-    /// `(0, t_max)`, or infinity where it misses.
+    /// `(0, t_max)`, or infinity where it misses: one four-lane slab test.
     #[inline(always)]
     fn hit(&self, ray: &BoxRay, t_max: f32) -> [f32; WIDTH] {
-        let mut near = [0.0f32; WIDTH];
-        let mut far = [t_max; WIDTH];
+        let mut near = f32x4::ZERO;
+        let mut far = f32x4::splat(t_max);
         for axis in 0..3 {
-            let lo = &self.bounds[ray.near_row[axis]];
-            let hi = &self.bounds[ray.near_row[axis] ^ 1];
-            let (o, inv) = (ray.origin[axis], ray.inv_dir[axis]);
-            for lane in 0..WIDTH {
-                near[lane] = lane_max((lo[lane] - o) * inv, near[lane]);
-                far[lane] = lane_min((hi[lane] - o) * inv, far[lane]);
-            }
+            let lo = f32x4::from(self.bounds[ray.near_row[axis]]);
+            let hi = f32x4::from(self.bounds[ray.near_row[axis] ^ 1]);
+            let o = f32x4::splat(ray.origin[axis]);
+            let inv = f32x4::splat(ray.inv_dir[axis]);
+            // `fast_max(a, b)` is `a > b ? a : b` and keeps `b` when either is
+            // NaN (a zero direction component times an infinite reciprocal).
+            near = ((lo - o) * inv).fast_max(near);
+            far = ((hi - o) * inv).fast_min(far);
         }
-        let mut out = [f32::INFINITY; WIDTH];
-        for lane in 0..WIDTH {
-            if near[lane] <= far[lane] * ROBUST {
-                out[lane] = near[lane];
-            }
-        }
-        out
+        let entered = near.cmp_le(far * f32x4::splat(ROBUST));
+        entered.blend(near, f32x4::splat(f32::INFINITY)).to_array()
     }
 }
 
@@ -166,6 +145,39 @@ fn pack(child: u32, near: f32) -> u64 {
 #[inline(always)]
 fn unpack(entry: u64) -> (u32, f32) {
     (entry as u32, f32::from_bits((entry >> 32) as u32))
+}
+
+/// The bits of `f32::INFINITY`: a lane key at or above it is a miss.
+const INF_BITS: u64 = 0x7f80_0000;
+
+/// Each lane's entry distance and lane number as one sortable key: the
+/// distance's bits above (non-negative floats order as integers), the lane
+/// below, written `3 - lane` so that equal distances keep the later lane
+/// first, as the traversal always has.
+#[inline(always)]
+fn lane_key(dist: f32, lane: usize) -> u64 {
+    (u64::from(dist.to_bits()) << 32) | (3 - lane as u64)
+}
+
+#[inline(always)]
+fn unpack_key(key: u64) -> (usize, f32) {
+    (3 - (key & 3) as usize, f32::from_bits((key >> 32) as u32))
+}
+
+/// The four lanes' keys in ascending order (nearest first, misses last), by
+/// a sorting network of minima and maxima: no branch depends on the data.
+#[inline(always)]
+fn sorted_lanes(dist: [f32; WIDTH]) -> [u64; WIDTH] {
+    let mut k = [0u64; WIDTH];
+    for (lane, d) in dist.into_iter().enumerate() {
+        k[lane] = lane_key(d, lane);
+    }
+    for (i, j) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+        let (lo, hi) = (k[i].min(k[j]), k[i].max(k[j]));
+        k[i] = lo;
+        k[j] = hi;
+    }
+    k
 }
 
 impl Bvh {
@@ -268,33 +280,25 @@ impl Bvh {
             return;
         }
         let box_ray = BoxRay::new(ray);
-        let mut stack = [0u64; STACK];
-        stack[0] = pack(0, 0.0);
-        let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
-            let (index, near) = unpack(stack[top]);
-            if near > t_max {
-                continue;
-            }
-            let node = &self.nodes[index as usize];
-            let dist = node.hit(&box_ray, t_max);
-            // The children hit, farthest first.
-            let mut order = [(0.0f32, 0u32); WIDTH];
-            let mut n = 0;
-            for (&d, &child) in dist.iter().zip(&node.child) {
-                if d < f32::INFINITY {
-                    let mut i = n;
-                    while i > 0 && order[i - 1].0 < d {
-                        order[i] = order[i - 1];
-                        i -= 1;
-                    }
-                    order[i] = (d, child);
-                    n += 1;
+        // Not zero-filled: the stack is 1 KiB and most rays need a few entries.
+        let mut stack = ArrayVec::<u64, STACK>::new();
+        let mut current = Some(0u32);
+        while let Some(index) = current.take().or_else(|| {
+            while let Some(entry) = stack.pop() {
+                let (index, near) = unpack(entry);
+                if near <= t_max {
+                    return Some(index);
                 }
             }
+            None
+        }) {
+            let node = &self.nodes[index as usize];
+            let order = sorted_lanes(node.hit(&box_ray, t_max));
+            let n = order.iter().take_while(|&&k| k >> 32 < INF_BITS).count();
             // Leaves at once, nearest first, so their hits cull what follows.
-            for &(d, word) in order[..n].iter().rev() {
+            for &key in &order[..n] {
+                let (lane, d) = unpack_key(key);
+                let word = node.child[lane];
                 if word & LEAF == 0 || d > t_max {
                     continue;
                 }
@@ -309,14 +313,20 @@ impl Bvh {
                     }
                 }
             }
-            // Inner children onto the stack, farthest first, so the nearest
-            // pops next.
-            for &(d, word) in &order[..n] {
-                if word & LEAF == 0 && d <= t_max && top < STACK {
-                    stack[top] = pack(word, d);
-                    top += 1;
+            // Inner children: the nearest is visited next, the others go onto
+            // the stack farthest first, so the nearer pop first.
+            let mut nearest = None;
+            for &key in order[..n].iter().rev() {
+                let (lane, d) = unpack_key(key);
+                let word = node.child[lane];
+                if word & LEAF == 0 && d <= t_max {
+                    if let Some(farther) = nearest.replace(pack(word, d)) {
+                        // A full stack (a degenerate tree) drops the entry.
+                        let _ = stack.try_push(farther);
+                    }
                 }
             }
+            current = nearest.map(|entry| unpack(entry).0);
         }
     }
 
