@@ -1,5 +1,6 @@
 //! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus a
-//! leaf-order permutation of triangle indices (4 bytes per triangle).
+//! leaf-order permutation of triangle indices and the triangles' vertex
+//! indices in leaf order (4 + 12 bytes per triangle).
 
 use std::sync::Arc;
 
@@ -15,6 +16,9 @@ use crate::scene::{MaterialId, MeshData};
 pub struct MeshGeometry {
     data: Arc<MeshData>,
     order: Vec<u32>,
+    /// The vertex indices of the triangle in each leaf slot, so a test
+    /// reads them without going through `order` (12 bytes per triangle).
+    slot_triangles: Vec<[u32; 3]>,
     /// Scene material of each material slot of the mesh.
     materials: Vec<MaterialId>,
     bvh: Bvh,
@@ -40,9 +44,11 @@ impl MeshGeometry {
             })
             .collect();
         let (bvh, order) = Bvh::build(&bounds);
+        let slot_triangles = order.iter().map(|&t| data.triangles[t as usize]).collect();
         MeshGeometry {
             data,
             order,
+            slot_triangles,
             materials,
             bvh,
         }
@@ -54,7 +60,7 @@ impl MeshGeometry {
 
     /// Bytes this structure adds to the shared mesh data.
     pub fn memory(&self) -> usize {
-        self.bvh.memory() + self.order.len() * 4
+        self.bvh.memory() + self.order.len() * 4 + self.slot_triangles.len() * 12
     }
 
     /// Whether any triangle is hit with `t` in `(t_min, t_max)`; only the
@@ -64,7 +70,7 @@ impl MeshGeometry {
         let sheared = ShearedRay::new(ray);
         let pos = &self.data.positions;
         self.bvh.traverse_any(ray, t_max, |slot, t_max| {
-            let idx = self.data.triangles[self.order[slot] as usize];
+            let idx = self.slot_triangles[slot];
             sheared
                 .intersect(idx.map(|i| pos[i as usize]), t_min, t_max)
                 .is_some()
@@ -77,14 +83,14 @@ impl MeshGeometry {
         let pos = &self.data.positions;
         let mut best = None;
         self.bvh.traverse(ray, t_max, |slot, t_max| {
-            let tri = self.order[slot];
-            let idx = self.data.triangles[tri as usize];
+            let idx = self.slot_triangles[slot];
             let h = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max)?;
-            best = Some((tri, h));
+            best = Some((slot, h));
             Some(h.t)
         });
-        let (tri, h) = best?;
-        let idx = self.data.triangles[tri as usize].map(|i| i as usize);
+        let (slot, h) = best?;
+        let tri = self.order[slot];
+        let idx = self.slot_triangles[slot].map(|i| i as usize);
         let [a, b, c] = idx.map(|i| pos[i]);
         let w = h.bary;
         let normal = unit_normal(a, b, c).unwrap_or(Vec3::Y);

@@ -21,12 +21,16 @@ pub struct Triangle {
 }
 
 /// The per-ray part of the watertight test: the permutation putting the
-/// ray's dominant axis last and the shear aligning it with +z.
+/// ray's dominant axis last and the shear aligning it with +z, as the rows
+/// of one matrix. Row `i` has a 1 (or the z scale) at one axis, the shear at
+/// the dominant axis and an exact 0 elsewhere, so its dot product with a
+/// vertex rounds exactly as the permuted, sheared coordinate written out
+/// (adding the zero term changes nothing), with no per-vertex branching on
+/// the permutation.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
     origin: Vec3,
-    k: [usize; 3],
-    shear: Vec3,
+    rows: [Vec3; 3],
 }
 
 /// Where a ray crosses a triangle: distance and barycentric weights of the
@@ -46,20 +50,24 @@ impl ShearedRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let dz = ray.dir[kz];
+        let unit = |axis: usize, value: f32| {
+            let mut r = Vec3::ZERO;
+            r[axis] = value;
+            r
+        };
+        let sheared = |axis: usize| unit(axis, 1.0) + unit(kz, -(ray.dir[axis] / dz));
         ShearedRay {
             origin: ray.origin,
-            k: [kx, ky, kz],
-            shear: Vec3::new(ray.dir[kx] / dz, ray.dir[ky] / dz, 1.0 / dz),
+            rows: [sheared(kx), sheared(ky), unit(kz, 1.0 / dz)],
         }
     }
 
     /// The hit on triangle `p` with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, p: [Vec3; 3], t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let [kx, ky, kz] = self.k;
-        let s = self.shear;
+        let [rx, ry, rz] = self.rows;
         let rel = p.map(|v| v - self.origin);
-        let xy = rel.map(|a| Vec2::new(a[kx] - s.x * a[kz], a[ky] - s.y * a[kz]));
+        let xy = rel.map(|a| Vec2::new(rx.dot(a), ry.dot(a)));
         let [a, b, c] = xy;
         let mut u = c.x * b.y - c.y * b.x;
         let mut v = a.x * c.y - a.y * c.x;
@@ -77,7 +85,7 @@ impl ShearedRay {
         if det == 0.0 {
             return None;
         }
-        let z = rel.map(|q| s.z * q[kz]);
+        let z = rel.map(|q| rz.dot(q));
         let t_scaled = u * z[0] + v * z[1] + w * z[2];
         let mut t = t_scaled / det;
         if !t_scaled.is_finite() {
