@@ -116,9 +116,10 @@ impl BvhNode {
     }
 
     /// The entry distance of the ray into each child's box within
-    /// `(0, t_max)`, or infinity where it misses: one four-lane slab test.
+    /// `(0, t_max)`, or infinity where it misses: one four-lane slab test;
+    /// and how many children it enters.
     #[inline(always)]
-    fn hit(&self, ray: &BoxRay, t_max: f32) -> [f32; WIDTH] {
+    fn hit(&self, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], usize) {
         let mut near = f32x4::ZERO;
         let mut far = f32x4::splat(t_max);
         for axis in 0..3 {
@@ -132,7 +133,8 @@ impl BvhNode {
             far = ((hi - o) * inv).fast_min(far);
         }
         let entered = near.cmp_le(far * f32x4::splat(ROBUST));
-        entered.blend(near, f32x4::splat(f32::INFINITY)).to_array()
+        let dist = entered.blend(near, f32x4::splat(f32::INFINITY));
+        (dist.to_array(), entered.move_mask().count_ones() as usize)
     }
 }
 
@@ -146,9 +148,6 @@ fn pack(child: u32, near: f32) -> u64 {
 fn unpack(entry: u64) -> (u32, f32) {
     (entry as u32, f32::from_bits((entry >> 32) as u32))
 }
-
-/// The bits of `f32::INFINITY`: a lane key at or above it is a miss.
-const INF_BITS: u64 = 0x7f80_0000;
 
 /// Each lane's entry distance and lane number as one sortable key: the
 /// distance's bits above (non-negative floats order as integers), the lane
@@ -293,8 +292,8 @@ impl Bvh {
             None
         }) {
             let node = &self.nodes[index as usize];
-            let order = sorted_lanes(node.hit(&box_ray, t_max));
-            let n = order.iter().take_while(|&&k| k >> 32 < INF_BITS).count();
+            let (dist, n) = node.hit(&box_ray, t_max);
+            let order = sorted_lanes(dist);
             // Leaves at once, nearest first, so their hits cull what follows.
             for &key in &order[..n] {
                 let (lane, d) = unpack_key(key);

@@ -50,11 +50,7 @@ impl ShearedRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let dz = ray.dir[kz];
-        let unit = |axis: usize, value: f32| {
-            let mut r = Vec3::ZERO;
-            r[axis] = value;
-            r
-        };
+        let unit = |axis: usize, value: f32| [Vec3::X, Vec3::Y, Vec3::Z][axis] * value;
         let sheared = |axis: usize| unit(axis, 1.0) + unit(kz, -(ray.dir[axis] / dz));
         ShearedRay {
             origin: ray.origin,
@@ -63,7 +59,7 @@ impl ShearedRay {
     }
 
     /// The hit on triangle `p` with `t` in `(t_min, t_max)`.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, p: [Vec3; 3], t_min: f32, t_max: f32) -> Option<TriangleHit> {
         let [rx, ry, rz] = self.rows;
         let rel = p.map(|v| v - self.origin);
