@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::emitter::LightId;
 use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::{Aabb, Bvh, Ray};
@@ -17,14 +18,18 @@ pub struct MeshGeometry {
     order: Vec<u32>,
     /// Scene material of each material slot of the mesh.
     materials: Vec<MaterialId>,
+    /// Light id of each triangle (by index in `data`); empty when none emits.
+    lights: Vec<LightId>,
     bvh: Bvh,
 }
 
-/// A mesh hit: the surface hit with the shading normal, and the material.
+/// A mesh hit: the surface hit with the shading normal, the material and
+/// the light id.
 pub struct MeshHit {
     pub hit: ShapeHit,
     pub shading_normal: Vec3,
     pub material: MaterialId,
+    pub light: LightId,
 }
 
 impl MeshGeometry {
@@ -44,8 +49,14 @@ impl MeshGeometry {
             data,
             order,
             materials,
+            lights: Vec::new(),
             bvh,
         }
+    }
+
+    /// The mesh with triangle `i` emitting as light `lights[i]`.
+    pub fn with_lights(self, lights: Vec<LightId>) -> MeshGeometry {
+        MeshGeometry { lights, ..self }
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -54,7 +65,7 @@ impl MeshGeometry {
 
     /// Bytes this structure adds to the shared mesh data.
     pub fn memory(&self) -> usize {
-        self.bvh.memory() + self.order.len() * 4
+        self.bvh.memory() + self.order.len() * 4 + self.lights.len() * 4
     }
 
     /// Whether any triangle is hit with `t` in `(t_min, t_max)`; only the
@@ -117,6 +128,11 @@ impl MeshGeometry {
             },
             shading_normal,
             material,
+            light: self
+                .lights
+                .get(tri as usize)
+                .copied()
+                .unwrap_or(LightId::NONE),
         })
     }
 }
