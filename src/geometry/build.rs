@@ -167,15 +167,16 @@ impl At {
 }
 
 impl Builder<'_> {
-    /// The id of the shape `source` of `material`, placed by `to_object`
-    /// (from its own space to the current one) at `at` with `flips` more
-    /// flips; `None` for a shape that is not a sampled kind of emitter
-    /// (its material, if a light, is marked unlisted unless ignored).
+    /// The light id of a shape of `material` (`source`, if it is a kind
+    /// the list describes), mapped from its own space to the current one by
+    /// `to_here`, at `at` with `flips` more flips: a new emitter if it is a
+    /// light that can be listed here, otherwise `NONE` (and a light's
+    /// material is marked unlisted, unless emitters are ignored here).
     fn emitter(
         &mut self,
         source: Option<Source>,
         material: MaterialId,
-        to_object: Affine3A,
+        to_here: Affine3A,
         flips: u32,
         at: &At,
     ) -> LightId {
@@ -186,7 +187,7 @@ impl Builder<'_> {
             (Emitting::Listed, Some(source)) => {
                 self.placed.push(Placed {
                     source,
-                    to_world: at.to_space * to_object,
+                    to_world: at.to_space * to_here,
                     flips: at.flips + flips,
                     material,
                 });
@@ -235,8 +236,13 @@ impl Builder<'_> {
     fn flatten(&mut self, m: &Mat4, node: &Node, at: &At, prims: &mut Vec<Baked>) -> bool {
         let start = self.placed.len();
         let ok = flatten(m, node, prims, &mut |shape, material, m, flips| {
-            let to_object = Affine3A::from_mat4(*m);
-            self.emitter(Source::of(shape), material, to_object, flips, at)
+            self.emitter(
+                Source::of(shape),
+                material,
+                Affine3A::from_mat4(*m),
+                flips,
+                at,
+            )
         });
         if !ok {
             self.placed.truncate(start);
