@@ -24,6 +24,12 @@ use rtlang::render::{render, RenderOptions};
 use rtlang::scene::object::RectPlane;
 use rtlang::scene::{Background, Camera, Material, MaterialId, Node, Scene, Shape, Texture};
 
+/// The lights a tree-selecting render of `scene` samples.
+fn tree_lights(scene: &Scene) -> LightList {
+    let world = World::build(scene).expect("builds");
+    LightList::for_render(scene, &world, true, LightSelection::Tree)
+}
+
 const SEEDS: u64 = 8;
 const BLOCK: u32 = 8;
 
@@ -220,12 +226,7 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
 #[test]
 fn sphere_light_glass_mirror_and_fog_with_and_without_light_sampling_agree() {
     let scene = glass_and_sphere_light(32, 64);
-    assert_eq!(
-        LightList::build(&scene, LightSelection::Tree)
-            .lights()
-            .len(),
-        2
-    );
+    assert_eq!(tree_lights(&scene).lights().len(), 2);
     let (worst, path, nee) = compare(&scene);
     assert!(
         worst < 5.0,
@@ -302,7 +303,7 @@ fn white_furnace_with_a_sampled_light_as_bright_as_the_sky() {
     s.settings.max_depth = 64;
     s.settings.background = Background::Solid(Vec3::splat(0.8));
     let world = World::build(&s).expect("builds");
-    assert_eq!(LightList::build(&s, LightSelection::Tree).lights().len(), 1);
+    assert_eq!(tree_lights(&s).lights().len(), 1);
     let options = RenderOptions::from_settings(&s.settings);
     assert!(options.light_sampling);
     let out = render(&s, &world, &options, &|_| {}).expect("renders");
@@ -383,12 +384,7 @@ fn lamp_field(size: u32, spp: u32) -> Scene {
 #[test]
 fn many_lights_chosen_by_tree_by_power_and_by_path_tracing_agree() {
     let scene = lamp_field(32, 64);
-    assert_eq!(
-        LightList::build(&scene, LightSelection::Tree)
-            .lights()
-            .len(),
-        64
-    );
+    assert_eq!(tree_lights(&scene).lights().len(), 64);
     let tree = |o: &mut RenderOptions| o.light_selection = LightSelection::Tree;
     let (worst, power, by_tree) =
         compare_options(&scene, |o| o.light_selection = LightSelection::Power, tree);

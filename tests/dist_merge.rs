@@ -81,6 +81,10 @@ fn pieces_that_do_not_belong_together_are_refused() {
     let t2_frame = t("t2f.exr", &["--tile", "2/2", "--frame", "3"]);
     let t2_pass = t("t2p.exr", &["--tile", "2/2", "--pass", "1"]);
     let t2_sampler = t("t2i.exr", &["--tile", "2/2", "--sampler", "independent"]);
+    let t2_power = t("t2l.exr", &["--tile", "2/2", "--light-selection", "power"]);
+    let t2_path = t("t2n.exr", &["--tile", "2/2", "--integrator", "path"]);
+    let p1_power = t("p1l.exr", &["--pass", "1", "--light-selection", "power"]);
+    let p0 = t("p0.exr", &["--pass", "0"]);
     let t3 = t("t3.exr", &["--tile", "2/3"]);
     let fails = |pieces: &[&std::path::Path], extra: &[&str], needle: &str| {
         let out = dir.join("out.exr");
@@ -98,6 +102,15 @@ fn pieces_that_do_not_belong_together_are_refused() {
     fails(&[&t1, &t2_seed], &[], "seed");
     fails(&[&t1, &t2_size], &[], "image size");
     fails(&[&t1, &t2_sampler], &[], "sampler");
+    // Tiles or passes that chose their lights otherwise (by the tree, by
+    // power, or none at all) do not make one render.
+    fails(
+        &[&t1, &t2_power],
+        &[],
+        "light selection: tree against power",
+    );
+    fails(&[&t1, &t2_path], &[], "light selection: tree against none");
+    fails(&[&p0, &p1_power], &["--average"], "light selection");
     fails(&[&t1, &t2_frame], &[], "scene");
     fails(&[&t1, &t2_pass], &[], "--average");
     fails(&[&t1, &t2_pass], &["--average"], "missing");

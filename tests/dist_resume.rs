@@ -60,6 +60,15 @@ fn stopped_saved_and_resumed_film_equals_the_uninterrupted_one() {
     other.piece.seed = 1;
     let err = checkpoint::load(&path, &other).expect_err("another seed");
     assert!(err.to_string().contains("seed"), "{err}");
+    // A film of lights chosen by the tree does not go on by power.
+    let mut power = header.clone();
+    power.piece.light_selection = "power".into();
+    let err = checkpoint::load(&path, &power).expect_err("another selection");
+    assert!(
+        err.to_string()
+            .contains("its light selection is tree, this render's is power"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -84,6 +93,24 @@ fn resume_from_4_to_8_spp_equals_a_direct_8_spp_render() {
     ]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("more than the 2"));
+    // Nor is a checkpoint of another light selection resumed.
+    let o = rtlang(&[
+        "render",
+        SCENE,
+        "-o",
+        s(&a),
+        "--spp",
+        "12",
+        "--checkpoint",
+        s(&ck),
+        "--resume",
+        "--light-selection",
+        "power",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("light selection"), "{err}");
+    assert_eq!(pixels(&a), pixels(&b), "the output is left as it was");
 }
 
 #[cfg(unix)]

@@ -160,10 +160,9 @@ proptest! {
         picks in proptest::collection::vec(any::<u8>(), 1..64),
     ) {
         let text = sprinkle(&Gen::from_seed(seed).scene(), &picks);
-        let dir = std::env::temp_dir();
-        let path = dir.join(format!("rtlang-fmt-prop-{}.rt", std::process::id()));
+        let dir = support::scratch::folder("fmt-prop");
         if format(&text, 0).is_ok() {
-            assert_formats_well(&path, &text);
+            assert_formats_well(&dir.join("scene.rt"), &text);
         }
     }
 }

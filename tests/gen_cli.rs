@@ -3,19 +3,18 @@
 
 use std::process::Command;
 
+#[allow(dead_code)]
+#[path = "support/scratch.rs"]
+mod scratch;
+
 fn rtlang() -> Command {
     Command::new(env!("CARGO_BIN_EXE_rtlang"))
 }
 
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("rtlang-gen-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join(name)
-}
-
 #[test]
 fn gen_earth_writes_a_png_of_the_requested_size() {
-    let out = scratch("earth.png");
+    let dir = scratch::folder("gen-cli");
+    let out = dir.join("earth.png");
     let status = rtlang()
         .args(["gen", "earth", "--width", "64", "--height", "32", "-o"])
         .arg(&out)
@@ -28,7 +27,8 @@ fn gen_earth_writes_a_png_of_the_requested_size() {
 
 #[test]
 fn gen_refuses_an_absurd_size_and_writes_nothing() {
-    let out = scratch("huge.png");
+    let dir = scratch::folder("gen-cli");
+    let out = dir.join("huge.png");
     let output = rtlang()
         .args(["gen", "porcelain", "--width", "100000", "-o"])
         .arg(&out)

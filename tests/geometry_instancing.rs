@@ -5,6 +5,10 @@ use std::sync::Arc;
 
 use rtlang::geometry::World;
 
+#[allow(dead_code)]
+#[path = "support/scratch.rs"]
+mod scratch;
+
 #[test]
 fn a_thousand_placements_of_a_28k_triangle_mesh_share_one_copy() {
     let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/critter.obj");
@@ -16,10 +20,8 @@ fn a_thousand_placements_of_a_28k_triangle_mesh_share_one_copy() {
            place critter {{ rotate y (i * 9)  translate (i - 20, 0, -j) }}
          }} }}"
     );
-    let path = std::env::temp_dir().join(format!("rtlang-instancing-{}.rt", std::process::id()));
-    std::fs::write(&path, source).expect("write scene");
+    let path = scratch::file("instancing.rt", source.as_bytes());
     let loaded = rtlang::lang::load_scene(&path, &[]).unwrap_or_else(|e| panic!("{e:?}"));
-    let _ = std::fs::remove_file(&path);
     let scene = loaded.scene;
     assert_eq!(scene.meshes.len(), 1, "the OBJ is loaded once");
     assert!(scene.meshes[0].triangles.len() > 25_000);

@@ -2,6 +2,10 @@
 
 use rtlang::lang::{self, diagnostics::render_plain, Options};
 
+#[allow(dead_code)]
+#[path = "support/scratch.rs"]
+mod scratch;
+
 #[test]
 fn every_documented_example_is_clean() {
     let doc = std::fs::read_to_string("docs/language.md").expect("the language reference");
@@ -22,8 +26,7 @@ fn assert_examples_clean(doc: &str, min: usize, tag: &str) {
         .filter_map(|b| b.split("```").next())
         .collect();
     assert!(blocks.len() >= min, "only {} examples", blocks.len());
-    let dir = std::env::temp_dir().join(format!("rtlang-docs-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let dir = scratch::folder(&format!("docs-{tag}"));
     for (i, block) in blocks.iter().enumerate() {
         let path = dir.join(format!("example_{i}.rt"));
         std::fs::write(&path, block).expect("write the example");
@@ -39,7 +42,6 @@ fn assert_examples_clean(doc: &str, min: usize, tag: &str) {
             shown.join("\n")
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The function, texture and material rows of the reference table (which

@@ -200,11 +200,10 @@ fn if_chooses_objects_and_values() {
 
 #[test]
 fn a_condition_must_be_a_boolean() {
-    let dir = std::env::temp_dir().join("rtlang-if-test");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path = dir.join("bad_if.rt");
-    std::fs::write(&path, "let r = if 1 then 2 else 3\nlet s = 1 < true\nsphere { radius r + s material lambertian(rgb(1, 1, 1)) }\n")
-        .expect("write the scene");
+    let path = support::scratch::file(
+        "bad_if.rt",
+        b"let r = if 1 then 2 else 3\nlet s = 1 < true\nsphere { radius r + s material lambertian(rgb(1, 1, 1)) }\n",
+    );
     let outcome = lang::check(&path, &Options::default());
     let codes: Vec<_> = outcome
         .diagnostics
@@ -230,16 +229,12 @@ fn faces_at(world: &rtlang::geometry::World, x: f32) -> (bool, bool) {
 
 #[test]
 fn flip_swaps_the_front_face() {
-    let dir = std::env::temp_dir().join("rtlang-flip-test");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path = dir.join("flip.rt");
-    std::fs::write(
-        &path,
-        "let lamp = light(rgb(1, 1, 1))\n\
+    let path = support::scratch::file(
+        "flip.rt",
+        b"let lamp = light(rgb(1, 1, 1))\n\
          rect xz { from (-1, -1) to (1, 1) at 0 material lamp }\n\
          rect xz { from (9, -1) to (11, 1) at 0 material lamp flip translate (0, 1, 0) }\n",
-    )
-    .expect("write the scene");
+    );
     let s = load_scene(&path, &[]).expect("loads").scene;
     assert!(
         matches!(&s.objects[1], Node::Transform { child, .. } if matches!(**child, Node::Flip(_)))
@@ -266,10 +261,7 @@ fn fps_set_in_render_is_the_clock_of_the_whole_file() {
 
 #[test]
 fn a_frame_rate_must_be_positive() {
-    let dir = std::env::temp_dir().join("rtlang-fps-test");
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path = dir.join("fps.rt");
-    std::fs::write(&path, "render { fps 0 }\n").expect("write the scene");
+    let path = support::scratch::file("fps.rt", b"render { fps 0 }\n");
     let outcome = lang::check(&path, &Options::default());
     let codes: Vec<_> = outcome
         .diagnostics

@@ -4,6 +4,10 @@
 use proptest::prelude::*;
 use rtlang::lang::{self, pretty, syntax, Options};
 
+#[allow(dead_code)]
+#[path = "support/scratch.rs"]
+mod scratch;
+
 const TOKENS: &[&str] = &[
     "sphere",
     "box",
@@ -73,11 +77,7 @@ const TOKENS: &[&str] = &[
 ];
 
 fn check_text(text: &[u8]) {
-    let dir = std::env::temp_dir().join(format!("rtlang-fuzz-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path =
-        dir.join(format!("case-{:?}.rt", std::thread::current().id()).replace(['(', ')'], ""));
-    std::fs::write(&path, text).expect("write the case");
+    let path = scratch::file("case.rt", text);
     let outcome = lang::check(&path, &Options::default());
     for d in &outcome.diagnostics {
         let _ = lang::diagnostics::render_plain(&d.to_report(&outcome.sources), 80);

@@ -3,8 +3,6 @@
 //! position and whose length is its travel, and no time outside the shutter
 //! is ever sampled.
 
-use std::io::Write;
-
 mod support;
 
 const WIDTH: u32 = 200;
@@ -12,28 +10,16 @@ const HEIGHT: u32 = 100;
 
 /// Renders `source` and returns the summed brightness of each pixel column.
 fn column_sums(source: &str) -> Vec<f64> {
-    let mut file = tempfile();
-    file.1.write_all(source.as_bytes()).expect("write scene");
-    let loaded = rtlang::lang::load_scene(&file.0, &[]).unwrap_or_else(|errors| {
+    let file = support::scratch::file("motion.rt", source.as_bytes());
+    let loaded = rtlang::lang::load_scene(&file, &[]).unwrap_or_else(|errors| {
         panic!("scene does not load: {errors:?}");
     });
     let out = support::render::as_set(&loaded.scene);
-    let _ = std::fs::remove_file(&file.0);
     let mut sums = vec![0.0; WIDTH as usize];
     for (i, p) in out.pixels.iter().enumerate() {
         sums[i % WIDTH as usize] += f64::from(p.x + p.y + p.z) / 3.0;
     }
     sums
-}
-
-fn tempfile() -> (std::path::PathBuf, std::fs::File) {
-    let path = std::env::temp_dir().join(format!(
-        "rtlang-motion-{}-{:?}.rt",
-        std::process::id(),
-        std::thread::current().id()
-    ));
-    let file = std::fs::File::create(&path).expect("create scene file");
-    (path, file)
 }
 
 /// Camera at z = 10 looking at the origin, vfov 20, 2:1: the plane z = 0

@@ -21,6 +21,12 @@ use rtlang::sampling::{Sampler, SamplerKind};
 use rtlang::scene::Scene;
 use support::scratch::{folder, write};
 
+/// The lights a tree-selecting render of `scene` samples.
+fn tree_lights(scene: &Scene) -> LightList {
+    let world = World::build(scene).expect("builds");
+    LightList::for_render(scene, &world, true, LightSelection::Tree)
+}
+
 /// A closed pyramid (four sides, a base of two triangles) and spare
 /// vertices for the degenerate faces.
 const VERTICES: &str = "\
@@ -210,10 +216,7 @@ fn an_emissive_mesh_with_zero_area_faces_lights_like_the_mesh_without_them() {
         "light(rgb(3, 3, 3), two_sided: true)",
         "scale (1, 0.5, 1)  rotate (1, 0, 1) 20  translate (0, 0.3, 0)",
     );
-    let (clean_lights, lights) = (
-        LightList::build(&clean, LightSelection::Tree),
-        LightList::build(&degenerate, LightSelection::Tree),
-    );
+    let (clean_lights, lights) = (tree_lights(&clean), tree_lights(&degenerate));
     let (clean_lights, lights) = (&clean_lights, &lights);
     assert_eq!(clean_lights.lights().len(), FACES.len());
     // Exactly-zero areas are left out; the face that is collinear only up

@@ -3,19 +3,16 @@
 //! exit code, the expected diagnostic code or message, and never a panic or
 //! an abort.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-const RTLANG: &str = env!("CARGO_BIN_EXE_rtlang");
+#[allow(dead_code)]
+#[path = "support/scratch.rs"]
+mod scratch;
 
-/// Writes `bytes` to a fresh file named `name` in a private temp directory.
-fn scratch(name: &str, bytes: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rtlang-limits-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, bytes).expect("write scratch file");
-    path
-}
+use scratch::file as scratch;
+
+const RTLANG: &str = env!("CARGO_BIN_EXE_rtlang");
 
 fn fixture(name: &str) -> String {
     concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/").to_string() + name
@@ -132,7 +129,7 @@ fn a_scene_asking_for_a_huge_image_is_refused_with_the_estimate() {
 fn a_command_line_asking_for_a_huge_image_is_refused_before_allocating() {
     let text = "sphere { center (0,0,-3) radius 1 material lambertian(rgb(1,1,1)) }\n";
     let path = scratch("small.rt", text.as_bytes());
-    let png = std::env::temp_dir().join(format!("rtlang-limits-{}.png", std::process::id()));
+    let png = path.with_file_name("small.png");
     let args = |w: &str, spp: &str| {
         let p = path.to_str().expect("utf-8 path").to_string();
         let o = png.to_str().expect("utf-8 path").to_string();
@@ -172,7 +169,7 @@ fn a_command_line_asking_for_a_huge_image_is_refused_before_allocating() {
 fn a_command_line_size_is_charged_to_the_memory_budget() {
     let text = "render { size 16 x 16 }\nsphere { center (0,0,-3) radius 1 material lambertian(rgb(1,1,1)) }\n";
     let path = scratch("budget.rt", text.as_bytes());
-    let png = std::env::temp_dir().join(format!("rtlang-budget-{}.png", std::process::id()));
+    let png = path.with_file_name("budget.png");
     let render = |size: &str| {
         run(&[
             "render",
@@ -206,7 +203,6 @@ fn a_command_line_size_is_charged_to_the_memory_budget() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(png.exists(), "no image written");
-    std::fs::remove_file(&png).expect("cleans up");
 }
 
 #[test]

@@ -56,12 +56,13 @@ fn each_obj_problem_is_shown_at_its_line_and_column() {
             shown.contains(&format!("{line} │ {text}")),
             "{name}: the line is not shown\n{shown}"
         );
+        // Where the scene uses the mesh is the second snippet, said once.
         assert!(
-            shown.contains(&format!(
-                "the mesh is used at tests/fixtures/obj_errors/{name}.rt:2:6"
-            )),
+            shown.contains(&format!("╭─[tests/fixtures/obj_errors/{name}.rt:2:6]"))
+                && shown.contains("mesh used here"),
             "{name}: {shown}"
         );
+        assert!(!shown.contains("note:"), "{name}: {shown}");
         let span = &json["span"];
         let (start, end) = (
             span[0].as_u64().unwrap_or(0) as usize,

@@ -14,6 +14,7 @@
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
+use super::emitter::LightId;
 use super::primitives::Primitive;
 use super::shapes::{Cuboid, Quad, Rect, Sphere, Triangle, TurnedSphere};
 use crate::scene::{MaterialId, Node, Shape};
@@ -36,43 +37,52 @@ pub fn primitive(shape: &Shape) -> Option<Primitive> {
     })
 }
 
+/// A baked primitive with its material and light id.
+pub type Baked = (Primitive, MaterialId, LightId);
+
+/// Asked for the light id of each shape baked: the shape, its material,
+/// the map from its space to the one `flatten` was called in, and the
+/// number of flips between them.
+pub type LightOf<'a> = dyn FnMut(&Shape, MaterialId, &Mat4, u32) -> LightId + 'a;
+
 /// Appends `node`'s primitives placed by `m` to `out` and returns true when
 /// every shape under it survives `m` exactly; otherwise leaves `out` as it
-/// was and returns false.
-pub fn flatten(m: &Mat4, node: &Node, out: &mut Vec<(Primitive, MaterialId)>) -> bool {
+/// was and returns false. `light` names each baked shape's light id.
+pub fn flatten(m: &Mat4, node: &Node, out: &mut Vec<Baked>, light: &mut LightOf) -> bool {
     let start = out.len();
-    let ok = walk(m, node, out);
+    let ok = walk(m, node, 0, out, light);
     if !ok {
         out.truncate(start);
     }
     ok
 }
 
-fn walk(m: &Mat4, node: &Node, out: &mut Vec<(Primitive, MaterialId)>) -> bool {
+fn walk(m: &Mat4, node: &Node, flips: u32, out: &mut Vec<Baked>, light: &mut LightOf) -> bool {
     match node {
         Node::Shape { shape, material } => {
             match primitive(shape).and_then(|p| transformed(&p, m)) {
                 Some(baked) => {
-                    out.extend(baked.into_iter().map(|p| (p, *material)));
+                    let id = light(shape, *material, m, flips);
+                    out.extend(baked.into_iter().map(|p| (p, *material, id)));
                     true
                 }
                 None => false,
             }
         }
-        Node::Group(children) => children.iter().all(|c| walk(m, c, out)),
-        Node::Transform { matrix, child } => walk(&(*m * *matrix), child, out),
+        Node::Group(children) => children.iter().all(|c| walk(m, c, flips, out, light)),
+        Node::Transform { matrix, child } => walk(&(*m * *matrix), child, flips, out, light),
         Node::Flip(child) => {
             let start = out.len();
-            if !walk(m, child, out) {
+            if !walk(m, child, flips + 1, out, light) {
                 return false;
             }
             let mut faces = Vec::with_capacity(out.len() - start);
-            for (p, material) in out.drain(start..) {
+            for (p, material, id) in out.drain(start..) {
                 let Some(quads) = quads(&p, &Mat4::IDENTITY) else {
                     return false;
                 };
                 faces.extend(quads.into_iter().filter_map(|q| match q {
-                    Primitive::Quad(q) => Some((Primitive::Quad(q.flipped()), material)),
+                    Primitive::Quad(q) => Some((Primitive::Quad(q.flipped()), material, id)),
                     _ => None,
                 }));
             }
@@ -421,11 +431,17 @@ mod tests {
             }))
         };
         let mut out = Vec::new();
-        assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out));
-        let [(Primitive::Quad(q), m)] = out[..] else {
+        // The light id is asked once per shape, with the flips around it.
+        let mut asked = Vec::new();
+        let mut light = |_: &Shape, _, _: &Mat4, flips| {
+            asked.push(flips);
+            LightId::new(7)
+        };
+        assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out, &mut light));
+        let [(Primitive::Quad(q), m, id)] = out[..] else {
             panic!("not one quad: {out:?}")
         };
-        assert_eq!((q.normal, m), (-Vec3::Y, material));
+        assert_eq!((q.normal, m, id), (-Vec3::Y, material, LightId::new(7)));
         let ray = Ray::new(Vec3::new(0.5, 3.0, 1.0), -Vec3::Y, 0.0);
         let (want, got) = (
             rect.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
@@ -434,8 +450,14 @@ mod tests {
         assert_eq!((want.t, want.point), (got.t, got.point));
         assert!((want.uv.get() - got.uv.get()).abs().max_element() < 1e-6);
         // A flipped sphere would need its uv mirrored: it keeps its instance.
-        assert!(!flatten(&Mat4::IDENTITY, &flip(sphere), &mut out));
+        assert!(!flatten(
+            &Mat4::IDENTITY,
+            &flip(sphere),
+            &mut out,
+            &mut light
+        ));
         assert_eq!(out.len(), 1);
+        assert_eq!(asked, [1, 1]);
     }
 
     #[test]
@@ -456,11 +478,12 @@ mod tests {
             },
         ]);
         let m = Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0));
-        let mut out = vec![(shapes()[1], material)];
-        assert!(flatten(&m, &nested, &mut out));
+        let mut out = vec![(shapes()[1], material, LightId::NONE)];
+        let mut none = |_: &Shape, _, _: &Mat4, _| LightId::NONE;
+        assert!(flatten(&m, &nested, &mut out, &mut none));
         let centres: Vec<Vec3> = out[1..]
             .iter()
-            .map(|(p, _)| match p {
+            .map(|(p, _, _)| match p {
                 Primitive::Sphere(s) => s.center,
                 other => panic!("not a sphere: {other:?}"),
             })
@@ -476,7 +499,7 @@ mod tests {
                 materials: vec![material],
             },
         ]);
-        assert!(!flatten(&m, &with_mesh, &mut out));
+        assert!(!flatten(&m, &with_mesh, &mut out, &mut none));
         assert_eq!(out.len(), 3, "a failed bake leaves the list as it was");
     }
 }

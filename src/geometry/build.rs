@@ -1,26 +1,29 @@
 //! Builds the intersection structures of a [`Scene`]: walks the object tree,
 //! gathers analytic primitives of one space into flat arrays, composes nested
-//! static transforms into one matrix, and builds each prototype once.
+//! static transforms into one matrix, and builds each prototype once. The
+//! same walk collects the emitters ([`Emitters`]) and gives each emissive
+//! primitive or triangle the [`LightId`] its hits carry.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use glam::Mat4;
+use glam::{Affine3A, Mat4};
 
-use super::bake::{flatten, primitive};
+use super::bake::{flatten, primitive, Baked};
+use super::emitter::{is_light, mark, Emitters, LightId, Placed, Source};
 use super::group::Group;
 use super::instance::{is_bounded, Instance, Placement, StaticTransform};
 use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
-use super::primitives::{Primitive, PrimitiveSet};
+use super::primitives::PrimitiveSet;
 use super::revolution::{tessellate, RevolutionSurface};
 use super::shapes::Plane;
 use super::sweep::swept_bounds;
 use super::{Aabb, Hit, Ray};
 use crate::scene::motion::CompiledMotion;
 use crate::scene::object::RevolutionMode;
-use crate::scene::{MaterialId, Node, ProtoId, Scene, Shape};
+use crate::scene::{MaterialId, MeshData, Node, ProtoId, Scene, Shape};
 
 /// Why a scene's geometry could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -41,6 +44,7 @@ pub enum BuildError {
 pub struct World {
     root: Instance,
     revolutions: Vec<Arc<RevolutionSurface>>,
+    emitters: Emitters,
 }
 
 impl World {
@@ -52,12 +56,20 @@ impl World {
             prototypes: HashMap::new(),
             in_progress: Vec::new(),
             revolutions: Vec::new(),
+            placed: Vec::new(),
+            unlisted: vec![false; scene.materials.len()],
         };
-        let root = b.instance(scene.objects.iter())?;
+        let root = b.instance(scene.objects.iter(), &At::WORLD)?;
         Ok(World {
             root,
             revolutions: b.revolutions,
+            emitters: Emitters::finish(scene, &b.placed, b.unlisted),
         })
+    }
+
+    /// The emitters, numbered as the [`Hit::light`]s that name them.
+    pub fn emitters(&self) -> &Emitters {
+        &self.emitters
     }
 
     /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.
@@ -105,12 +117,90 @@ impl World {
 struct Builder<'a> {
     scene: &'a Scene,
     shutter: (f32, f32),
-    prototypes: HashMap<ProtoId, Instance>,
+    /// Each prototype built, with its emitters in its own space.
+    prototypes: HashMap<ProtoId, (Instance, Vec<Placed>)>,
     in_progress: Vec<ProtoId>,
     revolutions: Vec<Arc<RevolutionSurface>>,
+    /// The emitters found so far, numbered in the space being built (the
+    /// world's, or a prototype's while it is built).
+    placed: Vec<Placed>,
+    /// Per material: whether an emissive shape of it has no emitter.
+    unlisted: Vec<bool>,
+}
+
+/// What the walk does with the emitters below a node.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Emitting {
+    /// Collects them.
+    Listed,
+    /// Collects none and marks their materials unlisted (under a motion).
+    Unlisted,
+    /// Ignores them (a medium's boundary, which is never hit as a surface).
+    Ignored,
+}
+
+/// Where the walk is: the map from the current space to the space the
+/// emitters are numbered in, the flips around it, and what to do with
+/// emitters.
+#[derive(Clone, Copy)]
+struct At {
+    to_space: Affine3A,
+    flips: u32,
+    emitting: Emitting,
+}
+
+impl At {
+    const WORLD: At = At {
+        to_space: Affine3A::IDENTITY,
+        flips: 0,
+        emitting: Emitting::Listed,
+    };
+
+    /// Below a node that lists fewer emitters: an ignored emitter stays
+    /// ignored even under a motion, as a medium's boundary always is.
+    fn with(self, emitting: Emitting) -> At {
+        At {
+            emitting: self.emitting.max(emitting),
+            ..self
+        }
+    }
 }
 
 impl Builder<'_> {
+    /// The light id of a shape of `material` (`source`, if it is a kind
+    /// the list describes), mapped from its own space to the current one by
+    /// `to_here`, at `at` with `flips` more flips: a new emitter if it is a
+    /// light that can be listed here, otherwise `NONE` (and a light's
+    /// material is marked unlisted, unless emitters are ignored here).
+    fn emitter(
+        &mut self,
+        source: Option<Source>,
+        material: MaterialId,
+        to_here: Affine3A,
+        flips: u32,
+        at: &At,
+    ) -> LightId {
+        if !is_light(self.scene, material) {
+            return LightId::NONE;
+        }
+        match (at.emitting, source) {
+            (Emitting::Listed, Some(source)) => {
+                self.placed.push(Placed {
+                    source,
+                    to_world: at.to_space * to_here,
+                    flips: at.flips + flips,
+                    material,
+                });
+                LightId::new(self.placed.len() - 1)
+            }
+            (Emitting::Ignored, _) => LightId::NONE,
+            _ => {
+                mark(&mut self.unlisted, material);
+                LightId::NONE
+            }
+        }
+    }
+
     fn placed(&self, geometry: Geometry, placement: Placement) -> Instance {
         Instance::new(Arc::new(geometry), placement)
     }
@@ -119,15 +209,16 @@ impl Builder<'_> {
     fn instance<'n>(
         &mut self,
         nodes: impl Iterator<Item = &'n Node>,
+        at: &At,
     ) -> Result<Instance, BuildError> {
         let mut prims = Vec::new();
         let mut items = Vec::new();
         for node in nodes {
-            self.collect(node, &mut prims, &mut items)?;
+            self.collect(node, at, &mut prims, &mut items)?;
         }
         let geometry = match &prims[..] {
             [] => None,
-            [(p, m)] => Some(Geometry::Single(*p, *m)),
+            [(p, m, light)] => Some(Geometry::Single(*p, *m, *light)),
             _ => Some(Geometry::Primitives(PrimitiveSet::new(prims))),
         };
         if let Some(geometry) = geometry {
@@ -139,14 +230,35 @@ impl Builder<'_> {
         Ok(self.placed(Geometry::Group(Group::new(items)), Placement::Identity))
     }
 
+    /// Bakes `node` placed by `m` into `prims` if every shape under it
+    /// survives the map ([`flatten`]), listing its emitters; otherwise
+    /// leaves both as they were and returns false.
+    fn flatten(&mut self, m: &Mat4, node: &Node, at: &At, prims: &mut Vec<Baked>) -> bool {
+        let start = self.placed.len();
+        let ok = flatten(m, node, prims, &mut |shape, material, m, flips| {
+            self.emitter(
+                Source::of(shape),
+                material,
+                Affine3A::from_mat4(*m),
+                flips,
+                at,
+            )
+        });
+        if !ok {
+            self.placed.truncate(start);
+        }
+        ok
+    }
+
     fn collect(
         &mut self,
         node: &Node,
-        prims: &mut Vec<(Primitive, MaterialId)>,
+        at: &At,
+        prims: &mut Vec<Baked>,
         items: &mut Vec<Instance>,
     ) -> Result<(), BuildError> {
         match node {
-            Node::Shape { shape, material } => self.shape(shape, *material, prims, items)?,
+            Node::Shape { shape, material } => self.shape(shape, *material, at, prims, items)?,
             Node::Mesh { mesh, materials } => {
                 let data = self
                     .scene
@@ -156,28 +268,38 @@ impl Builder<'_> {
                 if materials.is_empty() {
                     return Err(BuildError::MeshWithoutMaterial);
                 }
-                let geometry = Geometry::Mesh(MeshGeometry::new(data.clone(), materials.clone()));
+                let lights = self.mesh_emitters(data, materials, at);
+                let geometry = Geometry::Mesh(
+                    MeshGeometry::new(data.clone(), materials.clone()).with_lights(lights),
+                );
                 items.push(self.placed(geometry, Placement::Identity));
             }
             Node::Group(children) => {
                 for c in children {
-                    self.collect(c, prims, items)?;
+                    self.collect(c, at, prims, items)?;
                 }
             }
             // Shapes that survive the matrix exactly join this space's
             // primitives; anything else becomes a placed instance.
             Node::Transform { matrix, child } => {
-                if !flatten(matrix, child, prims) {
-                    let inner = self.instance(std::iter::once(&**child))?;
+                if !self.flatten(matrix, child, at, prims) {
+                    let inner_at = At {
+                        to_space: at.to_space * Affine3A::from_mat4(*matrix),
+                        ..*at
+                    };
+                    let inner = self.instance(std::iter::once(&**child), &inner_at)?;
                     items.push(self.transform(*matrix, inner)?);
                 }
             }
             Node::Motion { motion, child } => {
+                // Light sampling does not follow a motion, not even one
+                // that turns out to stand still.
+                let at = at.with(Emitting::Unlisted);
                 let compiled = CompiledMotion::new(motion);
                 if compiled.is_identity() {
-                    return self.collect(child, prims, items);
+                    return self.collect(child, &at, prims, items);
                 }
-                let inner = self.instance(std::iter::once(&**child))?;
+                let inner = self.instance(std::iter::once(&**child), &at)?;
                 // A motion that does not depend on time is a static transform
                 // and costs nothing per ray.
                 if let Some(matrix) = compiled.fixed() {
@@ -198,7 +320,8 @@ impl Builder<'_> {
                 density,
                 material,
             } => {
-                let inner = self.instance(std::iter::once(&**boundary))?;
+                let inner =
+                    self.instance(std::iter::once(&**boundary), &at.with(Emitting::Ignored))?;
                 let medium = Medium {
                     boundary: self.unplaced(inner),
                     density: *density,
@@ -206,12 +329,16 @@ impl Builder<'_> {
                 };
                 items.push(self.placed(Geometry::Medium(medium), Placement::Identity));
             }
-            Node::Instance(id) => items.push(self.prototype(*id)?),
+            Node::Instance(id) => items.push(self.prototype(*id, at)?),
             Node::Flip(child) => {
-                if flatten(&Mat4::IDENTITY, node, prims) {
+                if self.flatten(&Mat4::IDENTITY, node, at, prims) {
                     return Ok(());
                 }
-                let inner = self.instance(std::iter::once(&**child))?;
+                let inner_at = At {
+                    flips: at.flips + 1,
+                    ..*at
+                };
+                let inner = self.instance(std::iter::once(&**child), &inner_at)?;
                 let geometry = Geometry::Flipped(self.unplaced(inner));
                 items.push(self.placed(geometry, Placement::Identity));
             }
@@ -219,13 +346,41 @@ impl Builder<'_> {
         Ok(())
     }
 
+    /// The light id of each triangle of the mesh `data` whose slots map to
+    /// `materials`; empty when no triangle emits.
+    fn mesh_emitters(
+        &mut self,
+        data: &MeshData,
+        materials: &[MaterialId],
+        at: &At,
+    ) -> Vec<LightId> {
+        if !materials.iter().any(|m| is_light(self.scene, *m)) {
+            return Vec::new();
+        }
+        (0..data.triangles.len())
+            .map(|i| {
+                let slot = data.triangle_material.get(i).copied().unwrap_or(0) as usize;
+                let material = materials[slot.min(materials.len() - 1)];
+                match data.triangles[i].map(|k| data.positions.get(k as usize).copied()) {
+                    [Some(a), Some(b), Some(c)] => {
+                        let source = Source::Triangle([a, b, c]);
+                        self.emitter(Some(source), material, Affine3A::IDENTITY, 0, at)
+                    }
+                    _ => LightId::NONE,
+                }
+            })
+            .collect()
+    }
+
     fn shape(
         &mut self,
         shape: &Shape,
         material: MaterialId,
-        prims: &mut Vec<(Primitive, MaterialId)>,
+        at: &At,
+        prims: &mut Vec<Baked>,
         items: &mut Vec<Instance>,
     ) -> Result<(), BuildError> {
+        let light = self.emitter(Source::of(shape), material, Affine3A::IDENTITY, 0, at);
         let prim = match shape {
             Shape::Plane { point, normal } => {
                 let plane = Plane {
@@ -256,7 +411,7 @@ impl Builder<'_> {
             }
             bounded => primitive(bounded),
         };
-        prims.extend(prim.map(|p| (p, material)));
+        prims.extend(prim.map(|p| (p, material, light)));
         Ok(())
     }
 
@@ -276,37 +431,216 @@ impl Builder<'_> {
             }
         };
         let s = StaticTransform::new(composed).ok_or(BuildError::SingularMatrix(m))?;
-        Ok(Instance::new(
-            inner.geometry,
-            Placement::Static(Box::new(s)),
-        ))
+        Ok(Instance::new(inner.geometry, Placement::Static(Box::new(s))).with_lights(inner.lights))
     }
 
     /// Geometry whose own space is `inner`'s parent space.
     fn unplaced(&self, inner: Instance) -> Arc<Geometry> {
         match inner.placement {
-            Placement::Identity => inner.geometry,
+            Placement::Identity if inner.lights == LightId::BASE => inner.geometry,
             _ => Arc::new(Geometry::Group(Group::new(vec![inner]))),
         }
     }
 
-    fn prototype(&mut self, id: ProtoId) -> Result<Instance, BuildError> {
-        if let Some(inst) = self.prototypes.get(&id) {
-            return Ok(inst.clone());
+    /// A placement of prototype `id` at `at`: built once, in its own space
+    /// with its own emitters, which each placement appends (placed by
+    /// `at`) to the list being built, its instance counting its emitters'
+    /// ids from there.
+    fn prototype(&mut self, id: ProtoId, at: &At) -> Result<Instance, BuildError> {
+        if !self.prototypes.contains_key(&id) {
+            if self.in_progress.contains(&id) {
+                return Err(BuildError::RecursivePrototype(id.0));
+            }
+            let scene = self.scene;
+            let node = scene
+                .prototypes
+                .get(id.0 as usize)
+                .ok_or(BuildError::MissingPrototype(id.0))?;
+            self.in_progress.push(id);
+            let outer = std::mem::take(&mut self.placed);
+            let inst = self.instance(std::iter::once(node), &At::WORLD);
+            let own = std::mem::replace(&mut self.placed, outer);
+            self.in_progress.pop();
+            self.prototypes.insert(id, (inst?, own));
         }
-        if self.in_progress.contains(&id) {
-            return Err(BuildError::RecursivePrototype(id.0));
+        let Some((inst, own)) = self.prototypes.get(&id) else {
+            return Err(BuildError::MissingPrototype(id.0));
+        };
+        let base = match at.emitting {
+            Emitting::Listed => {
+                let base = LightId::new(self.placed.len());
+                self.placed.extend(own.iter().map(|p| Placed {
+                    to_world: at.to_space * p.to_world,
+                    flips: at.flips + p.flips,
+                    ..*p
+                }));
+                base
+            }
+            Emitting::Unlisted => {
+                for p in own {
+                    mark(&mut self.unlisted, p.material);
+                }
+                LightId::NONE
+            }
+            Emitting::Ignored => LightId::NONE,
+        };
+        Ok(inst.clone().with_lights(base))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::geometry::emitter::{Emitter, LightShape};
+    use crate::scene::object::RectPlane;
+    use crate::scene::{Material, Motion, Texture};
+
+    /// A scene with one light material (and a grey one), and its id.
+    fn lit() -> (Scene, MaterialId) {
+        let mut scene = Scene::default();
+        let t = scene.add_texture(Texture::Solid(Vec3::ONE));
+        let light = scene.add_material(Material::Light {
+            emit: t,
+            two_sided: false,
+        });
+        scene.add_material(Material::Lambertian { albedo: t });
+        (scene, light)
+    }
+
+    fn moved(x: f32, y: f32, child: Node) -> Node {
+        Node::Transform {
+            matrix: Mat4::from_translation(Vec3::new(x, y, 0.0)),
+            child: Box::new(child),
         }
-        let scene = self.scene;
-        let node = scene
-            .prototypes
-            .get(id.0 as usize)
-            .ok_or(BuildError::MissingPrototype(id.0))?;
-        self.in_progress.push(id);
-        let inst = self.instance(std::iter::once(node));
-        self.in_progress.pop();
-        let inst = inst?;
-        self.prototypes.insert(id, inst.clone());
-        Ok(inst)
+    }
+
+    /// The emitter a ray straight down onto `(x, z)` hits.
+    fn emitter_below(world: &World, x: f32, z: f32) -> Option<Emitter> {
+        let ray = Ray::new(Vec3::new(x, 50.0, z), Vec3::NEG_Y, 0.0);
+        let hit = world.intersect(&ray, 0.0, f32::INFINITY)?;
+        world.emitters().list[hit.light.index()?]
+    }
+
+    fn centre(e: Option<Emitter>) -> Option<Vec3> {
+        match e?.shape {
+            LightShape::Sphere { center, .. } => Some(center),
+            _ => None,
+        }
+    }
+
+    /// A prototype's geometry is built once and shared, yet each placement
+    /// of it (nested placements too) has emitters of its own, and a hit on
+    /// a placement names that placement's emitter.
+    #[test]
+    fn every_placement_of_a_shared_emitter_is_an_emitter_of_its_own() {
+        let (mut scene, light) = lit();
+        let ball = Node::Shape {
+            shape: Shape::Sphere {
+                center: Vec3::ZERO,
+                radius: 0.5,
+            },
+            material: light,
+        };
+        // Prototype 0: a ball and a grey ball; prototype 1: two of it.
+        let grey = Node::Shape {
+            shape: Shape::Sphere {
+                center: Vec3::new(0.0, 0.0, 5.0),
+                radius: 0.5,
+            },
+            material: MaterialId(1),
+        };
+        scene.prototypes.push(Node::Group(vec![ball, grey]));
+        scene.prototypes.push(Node::Group(vec![
+            moved(0.0, 0.0, Node::Instance(ProtoId(0))),
+            moved(2.0, 1.0, Node::Instance(ProtoId(0))),
+        ]));
+        scene.objects = vec![
+            moved(10.0, 0.0, Node::Instance(ProtoId(1))),
+            moved(20.0, 0.0, Node::Instance(ProtoId(1))),
+            Node::Instance(ProtoId(0)),
+        ];
+        let world = World::build(&scene).expect("builds");
+        let want = [
+            (10.0, 0.0),
+            (12.0, 1.0),
+            (20.0, 0.0),
+            (22.0, 1.0),
+            (0.0, 0.0),
+        ];
+        assert_eq!(world.emitters().list.len(), want.len());
+        for (k, (x, y)) in want.into_iter().enumerate() {
+            let c = Vec3::new(x, y, 0.0);
+            assert_eq!(centre(world.emitters().list[k]), Some(c), "emitter {k}");
+            assert_eq!(centre(emitter_below(&world, x, 0.0)), Some(c), "{c}");
+            assert_eq!(emitter_below(&world, x, 5.0), None, "the grey ball");
+        }
+        assert_eq!(world.emitters().unlisted, [false, false]);
+    }
+
+    /// Baked shapes (a rect moved and flipped) and mesh triangles carry
+    /// their ids too; a flip turns a flat emitter's normal; an emitter
+    /// under a motion has no id and its material is marked unlisted.
+    #[test]
+    fn baked_flipped_mesh_and_moving_emitters_are_named_as_listed() {
+        let (mut scene, light) = lit();
+        let rect = Node::Flip(Box::new(Node::Shape {
+            shape: Shape::Rect {
+                plane: RectPlane::Xz,
+                a: (-0.5, 0.5),
+                b: (-0.5, 0.5),
+                k: 0.0,
+            },
+            material: light,
+        }));
+        let mesh = scene.add_mesh(Arc::new(MeshData {
+            positions: vec![
+                Vec3::new(-1.0, 0.0, -1.0),
+                Vec3::new(1.0, 0.0, -1.0),
+                Vec3::new(0.0, 0.0, 1.0),
+            ],
+            triangles: vec![[0, 2, 1]],
+            ..MeshData::default()
+        }));
+        scene.objects = vec![
+            moved(3.0, 2.0, rect),
+            moved(
+                -3.0,
+                0.0,
+                Node::Mesh {
+                    mesh,
+                    materials: vec![light],
+                },
+            ),
+        ];
+        let world = World::build(&scene).expect("builds");
+        match emitter_below(&world, 3.0, 0.0).map(|e| e.shape) {
+            Some(LightShape::Parallelogram { corner, normal, .. }) => {
+                assert_eq!((corner, normal), (Vec3::new(2.5, 2.0, -0.5), Vec3::NEG_Y))
+            }
+            other => panic!("not the rect: {other:?}"),
+        }
+        match emitter_below(&world, -3.0, 0.0).map(|e| e.shape) {
+            Some(LightShape::Triangle { v, normal }) => {
+                assert_eq!(v[0], Vec3::new(-4.0, 0.0, -1.0));
+                assert_eq!(normal, Vec3::Y);
+            }
+            other => panic!("not the triangle: {other:?}"),
+        }
+        assert_eq!(world.emitters().unlisted, [false, false]);
+        scene.objects.push(Node::Motion {
+            motion: Motion::default(),
+            child: Box::new(moved(9.0, 0.0, scene.objects[1].clone())),
+        });
+        let world = World::build(&scene).expect("builds");
+        assert_eq!(world.emitters().list.len(), 2);
+        let hit = world.intersect(
+            &Ray::new(Vec3::new(6.0, 5.0, 0.0), Vec3::NEG_Y, 0.0),
+            0.0,
+            f32::INFINITY,
+        );
+        assert_eq!(hit.map(|h| h.light), Some(LightId::NONE));
+        assert_eq!(world.emitters().unlisted, [true, false]);
     }
 }

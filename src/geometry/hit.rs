@@ -2,6 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::emitter::LightId;
 use super::ray::{offset_origin, SurfacePoint};
 use super::shapes::sphere::sphere_uv;
 use crate::scene::MaterialId;
@@ -25,6 +26,9 @@ pub struct Hit {
     /// Whether the ray hit the outward-facing side of the surface.
     pub front_face: bool,
     pub material: MaterialId,
+    /// The emitter hit, if the surface is one the world lists
+    /// ([`crate::geometry::emitter::Emitters`]).
+    pub light: LightId,
 }
 
 impl Hit {

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Mat4};
 
+use super::emitter::LightId;
 use super::medium::MediumSegments;
 use super::object::Geometry;
 use super::ray::transform_point;
@@ -74,12 +75,15 @@ pub enum Placement {
     Moving(Arc<CompiledMotion>),
 }
 
-/// Shared geometry and its placement, with the bounds in the parent space.
+/// Shared geometry and its placement, with the bounds in the parent space
+/// and the base its light ids count from (a shared prototype's ids count
+/// from its own first emitter).
 #[derive(Clone)]
 pub struct Instance {
     pub geometry: Arc<Geometry>,
     pub placement: Placement,
     pub bounds: Aabb,
+    pub lights: LightId,
 }
 
 /// Whether a box is non-empty and finite (it can go into a BVH).
@@ -101,6 +105,15 @@ impl Instance {
             geometry,
             placement,
             bounds,
+            lights: LightId::BASE,
+        }
+    }
+
+    /// The instance with its light ids counted from `base`.
+    pub fn with_lights(self, base: LightId) -> Instance {
+        Instance {
+            lights: base,
+            ..self
         }
     }
 
@@ -110,6 +123,7 @@ impl Instance {
             geometry,
             placement: Placement::Moving(motion),
             bounds: swept,
+            lights: LightId::BASE,
         }
     }
 
@@ -122,14 +136,16 @@ impl Instance {
         t_max: f32,
         media: &mut MediumSegments,
     ) -> Option<Hit> {
-        match &self.placement {
+        let mut h = match &self.placement {
             Placement::Identity => self.geometry.intersect_in_media(ray, t_min, t_max, media),
             Placement::Static(s) => self.transformed(ray, s, t_min, t_max, media),
             Placement::Moving(motion) => {
                 let s = StaticTransform::from_pair(motion.matrices_at(ray.time))?;
                 self.transformed(ray, &s, t_min, t_max, media)
             }
-        }
+        }?;
+        h.light = h.light.within(self.lights);
+        Some(h)
     }
 
     /// Whether anything is hit with `t` in `(t_min, t_max)`.

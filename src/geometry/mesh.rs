@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::emitter::LightId;
 use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::{Aabb, Bvh, Ray};
@@ -21,14 +22,18 @@ pub struct MeshGeometry {
     slot_triangles: Vec<[u32; 3]>,
     /// Scene material of each material slot of the mesh.
     materials: Vec<MaterialId>,
+    /// Light id of each triangle (by index in `data`); empty when none emits.
+    lights: Vec<LightId>,
     bvh: Bvh,
 }
 
-/// A mesh hit: the surface hit with the shading normal, and the material.
+/// A mesh hit: the surface hit with the shading normal, the material and
+/// the light id.
 pub struct MeshHit {
     pub hit: ShapeHit,
     pub shading_normal: Vec3,
     pub material: MaterialId,
+    pub light: LightId,
 }
 
 impl MeshGeometry {
@@ -50,8 +55,14 @@ impl MeshGeometry {
             order,
             slot_triangles,
             materials,
+            lights: Vec::new(),
             bvh,
         }
+    }
+
+    /// The mesh with triangle `i` emitting as light `lights[i]`.
+    pub fn with_lights(self, lights: Vec<LightId>) -> MeshGeometry {
+        MeshGeometry { lights, ..self }
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -60,7 +71,10 @@ impl MeshGeometry {
 
     /// Bytes this structure adds to the shared mesh data.
     pub fn memory(&self) -> usize {
-        self.bvh.memory() + self.order.len() * 4 + self.slot_triangles.len() * 12
+        self.bvh.memory()
+            + self.order.len() * 4
+            + self.slot_triangles.len() * 12
+            + self.lights.len() * 4
     }
 
     /// Whether any triangle is hit with `t` in `(t_min, t_max)`; only the
@@ -123,6 +137,11 @@ impl MeshGeometry {
             },
             shading_normal,
             material,
+            light: self
+                .lights
+                .get(tri as usize)
+                .copied()
+                .unwrap_or(LightId::NONE),
         })
     }
 }

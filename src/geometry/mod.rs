@@ -5,6 +5,7 @@ pub mod aabb;
 pub mod bake;
 pub mod build;
 pub mod bvh;
+pub mod emitter;
 pub mod group;
 pub mod hit;
 pub mod instance;

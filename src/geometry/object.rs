@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+use super::emitter::LightId;
 use super::group::Group;
 use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
@@ -19,7 +20,7 @@ pub enum Geometry {
     Primitives(PrimitiveSet),
     /// One primitive alone (a medium's boundary, a moving ball): tested
     /// directly, without a hierarchy to walk.
-    Single(Primitive, MaterialId),
+    Single(Primitive, MaterialId, LightId),
     Mesh(MeshGeometry),
     Revolution {
         surface: Arc<RevolutionSurface>,
@@ -37,7 +38,7 @@ pub enum Geometry {
 
 /// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
 #[inline]
-pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId) -> Hit {
+pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId, light: LightId) -> Hit {
     let front_face = h.normal.dot(dir) < 0.0;
     let sign = if front_face { 1.0 } else { -1.0 };
     let geo_normal = h.normal * sign;
@@ -54,6 +55,7 @@ pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId) -> Hi
         uv: h.uv,
         front_face,
         material,
+        light,
     }
 }
 
@@ -62,7 +64,7 @@ impl Geometry {
     pub fn bounds(&self) -> Aabb {
         match self {
             Geometry::Primitives(p) => p.bounds(),
-            Geometry::Single(p, _) => p.bounds(),
+            Geometry::Single(p, _, _) => p.bounds(),
             Geometry::Mesh(m) => m.bounds(),
             Geometry::Revolution { surface, .. } => surface.bounds(),
             Geometry::Plane { .. } => Aabb {
@@ -81,7 +83,7 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         match self {
             Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
-            Geometry::Single(p, _) => p.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Single(p, _, _) => p.intersect(ray, t_min, t_max).is_some(),
             Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
             Geometry::Revolution { surface, .. } => surface.intersect(ray, t_min, t_max).is_some(),
             Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
@@ -112,16 +114,22 @@ impl Geometry {
     ) -> Option<Hit> {
         match self {
             Geometry::Primitives(p) => {
-                let (h, m) = p.intersect(ray, t_min, t_max)?;
-                Some(facing(h, h.normal, ray.dir, m))
+                let (h, m, light) = p.intersect(ray, t_min, t_max)?;
+                Some(facing(h, h.normal, ray.dir, m, light))
             }
-            Geometry::Single(p, m) => {
+            Geometry::Single(p, m, light) => {
                 let h = p.intersect(ray, t_min, t_max)?;
-                Some(facing(h, h.normal, ray.dir, *m))
+                Some(facing(h, h.normal, ray.dir, *m, *light))
             }
             Geometry::Mesh(mesh) => {
                 let h = mesh.intersect(ray, t_min, t_max)?;
-                Some(facing(h.hit, h.shading_normal, ray.dir, h.material))
+                Some(facing(
+                    h.hit,
+                    h.shading_normal,
+                    ray.dir,
+                    h.material,
+                    h.light,
+                ))
             }
             Geometry::Revolution { surface, material } => {
                 let s = surface.intersect(ray, t_min, t_max)?;
@@ -132,11 +140,11 @@ impl Geometry {
                     normal: s.normal,
                     uv: s.uv.into(),
                 };
-                Some(facing(h, h.normal, ray.dir, *material))
+                Some(facing(h, h.normal, ray.dir, *material, LightId::NONE))
             }
             Geometry::Plane { plane, material } => {
                 let h = plane.intersect(ray, t_min, t_max)?;
-                Some(facing(h, h.normal, ray.dir, *material))
+                Some(facing(h, h.normal, ray.dir, *material, LightId::NONE))
             }
             Geometry::Group(g) => g.intersect(ray, t_min, t_max, media),
             Geometry::Medium(m) => {

@@ -1,6 +1,8 @@
 //! Many analytic primitives (spheres, turned spheres, rects, parallelograms,
-//! boxes, triangles) with their materials in flat arrays under one BVH.
+//! boxes, triangles) with their materials and light ids in flat arrays under
+//! one BVH.
 
+use super::emitter::LightId;
 use super::shapes::{Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
@@ -41,22 +43,32 @@ impl Primitive {
     }
 }
 
-/// Primitives in BVH leaf order, each with its material.
+/// Primitives in BVH leaf order, each with its material and light id.
 #[derive(Debug, Default)]
 pub struct PrimitiveSet {
     prims: Vec<Primitive>,
     materials: Vec<MaterialId>,
+    /// Empty when no primitive emits.
+    lights: Vec<LightId>,
     bvh: Bvh,
 }
 
 impl PrimitiveSet {
-    pub fn new(items: Vec<(Primitive, MaterialId)>) -> PrimitiveSet {
-        let bounds: Vec<Aabb> = items.iter().map(|(p, _)| p.bounds()).collect();
+    pub fn new(items: Vec<(Primitive, MaterialId, LightId)>) -> PrimitiveSet {
+        let bounds: Vec<Aabb> = items.iter().map(|(p, _, _)| p.bounds()).collect();
         let (bvh, order) = Bvh::build(&bounds);
-        let (prims, materials) = order.iter().map(|&i| items[i as usize]).unzip();
+        let (prims, materials) = order
+            .iter()
+            .map(|&i| (items[i as usize].0, items[i as usize].1))
+            .unzip();
+        let mut lights: Vec<LightId> = order.iter().map(|&i| items[i as usize].2).collect();
+        if lights.iter().all(|l| *l == LightId::NONE) {
+            lights = Vec::new();
+        }
         PrimitiveSet {
             prims,
             materials,
+            lights,
             bvh,
         }
     }
@@ -65,16 +77,23 @@ impl PrimitiveSet {
         self.bvh.bounds()
     }
 
-    /// The nearest hit in `(t_min, t_max)` with its material.
+    /// The nearest hit in `(t_min, t_max)` with its material and light id.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(ShapeHit, MaterialId)> {
+    pub fn intersect(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let mut best = None;
         self.bvh.traverse(ray, t_max, |slot, t_max| {
             let h = self.prims[slot].intersect(ray, t_min, t_max)?;
-            best = Some((h, self.materials[slot]));
+            best = Some((h, slot));
             Some(h.t)
         });
-        best
+        let (h, slot) = best?;
+        let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
+        Some((h, self.materials[slot], light))
     }
 
     /// Whether any primitive is hit with `t` in `(t_min, t_max)`.

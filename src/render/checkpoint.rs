@@ -45,7 +45,7 @@ pub enum CheckpointError {
     #[error("checkpoint `{}` belongs to another render: its {field} is {saved}, this render's is {now}", path.display())]
     #[diagnostic(
         code(rtlang::checkpoint::mismatch),
-        help("resume with the same scene, defines, frame, size, crop/tile, seed, sampler, depth and pass, or delete the checkpoint")
+        help("resume with the same scene, defines, frame, size, crop/tile, seed, sampler, depth, light selection and pass, or delete the checkpoint")
     )]
     Mismatch {
         path: PathBuf,
@@ -138,7 +138,7 @@ pub fn load(path: &Path, now: &Header) -> Result<Film, CheckpointError> {
 
 fn check_matches(path: &Path, saved: &Header, now: &Header) -> Result<(), CheckpointError> {
     let (a, b) = (&saved.piece, &now.piece);
-    let fields: [(&'static str, String, String); 9] = [
+    let fields: [(&'static str, String, String); 10] = [
         ("scene", a.scene.clone(), b.scene.clone()),
         (
             "size",
@@ -156,6 +156,11 @@ fn check_matches(path: &Path, saved: &Header, now: &Header) -> Result<(), Checkp
             "max depth",
             a.max_depth.to_string(),
             b.max_depth.to_string(),
+        ),
+        (
+            "light selection",
+            a.light_selection.clone(),
+            b.light_selection.clone(),
         ),
         ("frame", a.frame.to_string(), b.frame.to_string()),
         ("pass", a.pass.to_string(), b.pass.to_string()),

@@ -19,6 +19,7 @@ use super::camera::CameraRays;
 use super::lights::LightList;
 use super::material;
 use super::options::RenderOptions;
+use crate::geometry::emitter::LightId;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
@@ -137,14 +138,9 @@ impl<'a> Tracer<'a> {
             let emitted = bsdf.emitted();
             if emitted != Vec3::ZERO {
                 let weight = match previous {
-                    Previous::Scattered { point, normal, pdf }
-                        if nee && lights.is_sampled(hit.material) =>
-                    {
-                        power_heuristic(
-                            pdf,
-                            lights.pdf(hit.material, point, normal, hit.point, hit.geo_normal),
-                        )
-                    }
+                    Previous::Scattered { point, normal, pdf } if nee => lights
+                        .pdf(hit.light, point, normal, hit.point, hit.geo_normal)
+                        .map_or(1.0, |light| power_heuristic(pdf, light)),
                     _ => 1.0,
                 };
                 radiance += throughput * emitted * weight;
@@ -277,6 +273,7 @@ fn medium_point(ray: &Ray, t: f32, material: MaterialId) -> Hit {
         uv: glam::Vec2::ZERO.into(),
         front_face: true,
         material,
+        light: LightId::NONE,
     }
 }
 

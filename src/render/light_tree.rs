@@ -285,36 +285,6 @@ impl LightTree {
         }
         prob
     }
-
-    /// Visits the lights whose bounds, widened by a relative rounding
-    /// allowance, contain `x`.
-    pub fn near(&self, x: DVec3, mut visit: impl FnMut(usize)) {
-        // The median build keeps the depth at most 64, so the stack holds
-        // at most 65 nodes.
-        let mut stack = [0u32; 66];
-        let mut top = usize::from(!self.nodes.is_empty());
-        while top > 0 {
-            top -= 1;
-            let at = stack[top] as usize;
-            let Some(node) = self.nodes.get(at) else {
-                continue;
-            };
-            let b = &node.bounds;
-            let slack = 1e-5 * (b.max - b.min).max_element() + 1e-6 * x.abs().max_element();
-            if (x.cmplt(b.min - slack) | x.cmpgt(b.max + slack)).any() {
-                continue;
-            }
-            match node.kind {
-                Kind::Leaf(i) => visit(i as usize),
-                Kind::Inner(second) if top + 2 <= stack.len() => {
-                    stack[top] = second;
-                    stack[top + 1] = at as u32 + 1;
-                    top += 2;
-                }
-                Kind::Inner(_) => {}
-            }
-        }
-    }
 }
 
 #[cfg(test)]

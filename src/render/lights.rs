@@ -1,8 +1,11 @@
-//! The light list for next-event estimation: every emissive rect, triangle,
-//! mesh triangle and sphere of the scene in world space (static transforms
-//! and prototype instances applied), chosen in proportion to their power,
-//! with point sampling (area for flat shapes, cone for spheres) and the
-//! matching solid-angle densities used by multiple importance sampling.
+//! The light list for next-event estimation, made from the emitters the
+//! world builder collected ([`Emitters`]: every emissive rect, triangle,
+//! mesh triangle and sphere in world space), chosen by the light tree or in
+//! proportion to power, with point sampling (area for flat shapes, cone for
+//! spheres) and the matching solid-angle densities used by multiple
+//! importance sampling. A path's emitter hit names its emitter by its
+//! [`LightId`], so its density is found without a search: O(1) by power,
+//! O(tree depth) by the tree.
 //!
 //! A light material is *sampled* only if every shape using it is in the
 //! list; otherwise (a moving, planar, box, revolution or non-uniformly
@@ -11,39 +14,16 @@
 
 use std::f32::consts::TAU;
 
-#[cfg(test)]
-use glam::Mat4;
-use glam::{Affine3A, DVec3, Mat3A, Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 
 use super::light_tree::{LightBounds, LightTree};
 
+pub use crate::geometry::emitter::LightShape;
+use crate::geometry::emitter::{Emitters, LightId};
 use crate::geometry::ray::{gamma, SurfacePoint};
-use crate::geometry::shapes::triangle::unit_normal;
+use crate::geometry::World;
 use crate::sampling::Sampler;
-use crate::scene::object::RectPlane;
-use crate::scene::{Material, MaterialId, Node, Scene, Shape, Texture};
-
-/// Nesting of transforms and prototypes walked before giving up.
-const MAX_NESTING: u32 = 64;
-
-/// An emissive shape in world space.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum LightShape {
-    /// The parallelogram `corner + s·edges.0 + t·edges.1`, s, t in [0, 1].
-    Parallelogram {
-        corner: Vec3,
-        edges: (Vec3, Vec3),
-        normal: Vec3,
-    },
-    Triangle {
-        v: [Vec3; 3],
-        normal: Vec3,
-    },
-    Sphere {
-        center: Vec3,
-        radius: f32,
-    },
-}
+use crate::scene::{Material, MaterialId, Scene, Texture};
 
 impl Light {
     /// The tree's bounds of this light emitting `power`.
@@ -113,37 +93,6 @@ impl LightShape {
                 0.5 * (b - a).cross(c - a).length()
             }
             LightShape::Sphere { radius, .. } => sphere_area(radius),
-        }
-    }
-
-    /// How far `x` is from the shape, relative to its size (0 on it).
-    fn miss(&self, x: DVec3) -> f64 {
-        // Coordinates (s, t) of x − origin on the edges a, b, by the Gram
-        // matrix; `inside` says how far out of the shape they are.
-        let on_plane = |origin: Vec3, a: Vec3, b: Vec3, inside: &dyn Fn(f64, f64) -> f64| {
-            let (a, b, d) = (a.as_dvec3(), b.as_dvec3(), x - origin.as_dvec3());
-            let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
-            let det = aa * bb - ab * ab;
-            let (da, db) = (d.dot(a), d.dot(b));
-            let s = (bb * da - ab * db) / det;
-            let t = (aa * db - ab * da) / det;
-            let n = a.cross(b);
-            let height = n.dot(d).abs() / n.length() / (aa.max(bb)).sqrt();
-            inside(s, t).max(height)
-        };
-        match *self {
-            LightShape::Parallelogram { corner, edges, .. } => {
-                on_plane(corner, edges.0, edges.1, &|s, t| {
-                    0f64.max(-s).max(s - 1.0).max(-t).max(t - 1.0)
-                })
-            }
-            LightShape::Triangle { v, .. } => on_plane(v[0], v[1] - v[0], v[2] - v[0], &|s, t| {
-                0f64.max(-s).max(-t).max(s + t - 1.0)
-            }),
-            LightShape::Sphere { center, radius } => {
-                let r = f64::from(radius);
-                ((x - center.as_dvec3()).length() - r).abs() / r.max(1e-30)
-            }
         }
     }
 
@@ -245,63 +194,57 @@ pub struct LightList {
     /// any size f32 can place add up without overflow.
     cdf: Vec<f64>,
     total: f64,
-    /// Per material id: whether its shapes are sampled.
-    sampled: Vec<bool>,
-    /// The hierarchy over `lights`, for tree selection and for finding the
-    /// light a path hit.
+    /// Per emitter of the world (by [`LightId`]): its index in `lights`,
+    /// if sampled.
+    of_emitter: Vec<Option<u32>>,
+    /// The hierarchy over `lights`, for tree selection.
     tree: LightTree,
     selection: LightSelection,
 }
 
-struct Walker<'a> {
-    scene: &'a Scene,
-    found: Vec<Light>,
-    /// Light materials with an emitter that cannot be sampled.
-    unsampled: Vec<bool>,
-}
-
 impl LightList {
-    /// Gathers the lights of `scene`, to be chosen by `selection`.
-    pub fn build(scene: &Scene, selection: LightSelection) -> LightList {
-        let mut w = Walker {
-            scene,
-            found: Vec::new(),
-            unsampled: vec![false; scene.materials.len()],
-        };
-        for node in &scene.objects {
-            w.node(node, Affine3A::IDENTITY, 0);
-        }
-        let mut weight: Vec<Option<f32>> = scene
+    /// The lights of `scene` among the world's `emitters`, to be chosen by
+    /// `selection`.
+    pub fn build(scene: &Scene, emitters: &Emitters, selection: LightSelection) -> LightList {
+        let unlisted = |i: usize| emitters.unlisted.get(i).copied().unwrap_or(false);
+        let weight: Vec<Option<(f32, Vec3, bool)>> = scene
             .materials
             .iter()
             .enumerate()
             .map(|(i, m)| match *m {
-                Material::Light { emit, .. } if !w.unsampled[i] => match scene.texture(emit) {
-                    Texture::Solid(c) => Some(luminance(*c)).filter(|l| *l > 0.0),
+                Material::Light { emit, two_sided } if !unlisted(i) => match scene.texture(emit) {
+                    Texture::Solid(c) => Some((luminance(*c), *c, two_sided)).filter(|w| w.0 > 0.0),
                     _ => None,
                 },
                 _ => None,
             })
             .collect();
-        let lights: Vec<Light> = w
-            .found
-            .into_iter()
-            .filter(|l| l.shape.is_sampleable() && weight[l.material.0 as usize].is_some())
-            .collect();
+        let mut of_emitter = vec![None; emitters.list.len()];
+        let mut lights = Vec::new();
+        for (e, slot) in emitters.list.iter().zip(&mut of_emitter) {
+            let Some(e) = e.filter(|e| e.shape.is_sampleable()) else {
+                continue;
+            };
+            let Some(&Some((_, emit, two_sided))) = weight.get(e.material.0 as usize) else {
+                continue;
+            };
+            *slot = Some(lights.len() as u32);
+            lights.push(Light {
+                shape: e.shape,
+                material: e.material,
+                emit,
+                two_sided,
+            });
+        }
         let mut cdf = Vec::with_capacity(lights.len());
         let mut total = 0.0f64;
         let powers: Vec<f64> = lights
             .iter()
-            .map(|l| f64::from(weight[l.material.0 as usize].unwrap_or(0.0)) * l.shape.area())
+            .map(|l| f64::from(luminance(l.emit)) * l.shape.area())
             .collect();
         for p in &powers {
             total += p;
             cdf.push(total);
-        }
-        for (i, wgt) in weight.iter_mut().enumerate() {
-            if !lights.iter().any(|l| l.material.0 as usize == i) {
-                *wgt = None;
-            }
         }
         let prepared = lights
             .iter()
@@ -323,16 +266,21 @@ impl LightList {
             prepared,
             cdf,
             total,
-            sampled: weight.iter().map(Option::is_some).collect(),
+            of_emitter,
             selection,
         }
     }
 
-    /// The lights a render samples: the scene's when light sampling is on,
+    /// The lights a render samples: the world's when light sampling is on,
     /// none otherwise (plain path tracing never asks).
-    pub fn for_render(scene: &Scene, light_sampling: bool, selection: LightSelection) -> LightList {
+    pub fn for_render(
+        scene: &Scene,
+        world: &World,
+        light_sampling: bool,
+        selection: LightSelection,
+    ) -> LightList {
         if light_sampling {
-            LightList::build(scene, selection)
+            LightList::build(scene, world.emitters(), selection)
         } else {
             LightList::default()
         }
@@ -347,13 +295,11 @@ impl LightList {
         self.lights.is_empty()
     }
 
-    /// Whether next-event estimation can reach shapes of `material`.
+    /// The index in [`LightList::lights`] of the emitter `id`, if sampled.
     #[inline]
-    pub fn is_sampled(&self, material: MaterialId) -> bool {
-        self.sampled
-            .get(material.0 as usize)
-            .copied()
-            .unwrap_or(false)
+    pub fn index_of(&self, id: LightId) -> Option<usize> {
+        let i = self.of_emitter.get(id.index()?).copied().flatten()?;
+        Some(i as usize)
     }
 
     /// Samples a light point seen from `p` (surface normal `n`, zero in a
@@ -447,45 +393,21 @@ impl LightList {
         }
     }
 
-    /// The light of `material` whose surface holds the point `x` (a path's
-    /// hit), found through the tree's bounds.
-    fn light_at(&self, material: MaterialId, x: Vec3) -> Option<usize> {
-        if let [only] = self.lights.as_slice() {
-            return (only.material == material).then_some(0);
-        }
-        let x = x.as_dvec3();
-        let mut best: Option<(f64, usize)> = None;
-        self.tree.near(x, |i| {
-            let l = &self.lights[i];
-            if l.material != material {
-                return;
-            }
-            let miss = l.shape.miss(x);
-            if miss <= 1e-3 && best.is_none_or(|(m, _)| miss < m) {
-                best = Some((miss, i));
-            }
-        });
-        best.map(|(_, i)| i)
-    }
-
     /// The solid-angle density with which [`LightList::sample`] from `p`
-    /// (normal `n_p`) picks the point `x` (normal `n`) of a light of
-    /// `material`.
-    pub fn pdf(&self, material: MaterialId, p: Vec3, n_p: Vec3, x: Vec3, n: Vec3) -> f32 {
-        if !self.is_sampled(material) {
-            return 0.0;
-        }
-        let Some(i) = self.light_at(material, x) else {
-            return 0.0;
-        };
+    /// (normal `n_p`) picks the point `x` (normal `n`) of the emitter `id`
+    /// (a path's hit); `None` if that emitter is not sampled. The choice's
+    /// probability is the light's power share, or by the tree the product
+    /// of the shares along the light's recorded path from the root.
+    pub fn pdf(&self, id: LightId, p: Vec3, n_p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
+        let i = self.index_of(id)?;
         let select = self.select(i, p, n_p);
         let l = &self.prepared[i];
-        match l.light.shape {
+        Some(match l.light.shape {
             LightShape::Sphere { center, radius } => {
                 select as f32 * sphere_pdf(center, radius, p, x)
             }
             _ => area_to_solid_angle(select * l.inv_area, p, x, n).unwrap_or(0.0),
-        }
+        })
     }
 }
 
@@ -571,219 +493,29 @@ fn sphere_pdf(center: Vec3, radius: f32, p: Vec3, x: Vec3) -> f32 {
     }
 }
 
-/// The uniform scale of a similarity transform, if `m` is one.
-fn uniform_scale(m: Mat3A) -> Option<f32> {
-    // In f64: the squared lengths of a huge scale's axes leave f32.
-    let (a, b, c) = (
-        m.x_axis.as_dvec3(),
-        m.y_axis.as_dvec3(),
-        m.z_axis.as_dvec3(),
-    );
-    let s = a.length();
-    let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * s.max(1e-12);
-    let orthogonal =
-        close(a.dot(b) / s, 0.0) && close(a.dot(c) / s, 0.0) && close(b.dot(c) / s, 0.0);
-    (orthogonal && close(b.length(), s) && close(c.length(), s) && s > 0.0).then_some(s as f32)
-}
-
-impl Walker<'_> {
-    fn mark(&mut self, material: MaterialId) {
-        if let Some(u) = self.unsampled.get_mut(material.0 as usize) {
-            *u = true;
-        }
-    }
-
-    /// The emission of `material`, if it is a light.
-    fn emitter(&self, material: MaterialId) -> Option<(Vec3, bool)> {
-        match self.scene.materials.get(material.0 as usize)? {
-            Material::Light { emit, two_sided } => {
-                let c = match self.scene.texture(*emit) {
-                    Texture::Solid(c) => *c,
-                    _ => Vec3::ZERO,
-                };
-                Some((c, *two_sided))
-            }
-            _ => None,
-        }
-    }
-
-    fn push(&mut self, shape: LightShape, material: MaterialId) {
-        if let Some((emit, two_sided)) = self.emitter(material) {
-            self.found.push(Light {
-                shape,
-                material,
-                emit,
-                two_sided,
-            });
-        }
-    }
-
-    /// Marks every light material below `node` as unsampled.
-    fn mark_all(&mut self, node: &Node, depth: u32) {
-        if depth > MAX_NESTING {
-            return;
-        }
-        match node {
-            Node::Shape { material, .. } => self.mark(*material),
-            Node::Mesh { materials, .. } => materials.iter().for_each(|m| self.mark(*m)),
-            Node::Group(children) => children.iter().for_each(|c| self.mark_all(c, depth + 1)),
-            Node::Transform { child, .. } | Node::Motion { child, .. } | Node::Flip(child) => {
-                self.mark_all(child, depth + 1)
-            }
-            Node::Medium { .. } => {}
-            Node::Instance(id) => {
-                if let Some(n) = self.scene.prototypes.get(id.0 as usize) {
-                    self.mark_all(n, depth + 1);
-                }
-            }
-        }
-    }
-
-    fn node(&mut self, node: &Node, m: Affine3A, depth: u32) {
-        if depth > MAX_NESTING {
-            self.mark_all(node, 0);
-            return;
-        }
-        match node {
-            Node::Shape { shape, material } => {
-                if self.emitter(*material).is_some() {
-                    self.shape(shape, *material, m);
-                }
-            }
-            Node::Mesh { mesh, materials } => self.mesh(mesh.0 as usize, materials, m),
-            Node::Group(children) => children.iter().for_each(|c| self.node(c, m, depth + 1)),
-            Node::Transform { matrix, child } => {
-                self.node(child, m * Affine3A::from_mat4(*matrix), depth + 1)
-            }
-            Node::Motion { child, .. } => self.mark_all(child, depth + 1),
-            Node::Flip(child) => self.flipped(child, m, depth + 1),
-            Node::Medium { .. } => {}
-            Node::Instance(id) => {
-                if let Some(n) = self.scene.prototypes.get(id.0 as usize) {
-                    self.node(n, m, depth + 1);
-                }
-            }
-        }
-    }
-
-    /// Lights below a `flip`: flat emitters face the other way; a one-sided
-    /// sphere would emit inwards, which light sampling does not model, so
-    /// its material is left to paths that hit it.
-    fn flipped(&mut self, child: &Node, m: Affine3A, depth: u32) {
-        let first = self.found.len();
-        self.node(child, m, depth);
-        let added: Vec<Light> = self.found.drain(first..).collect();
-        for mut light in added {
-            match &mut light.shape {
-                LightShape::Parallelogram { normal, .. } | LightShape::Triangle { normal, .. } => {
-                    *normal = -*normal;
-                    self.found.push(light);
-                }
-                LightShape::Sphere { .. } if light.two_sided => self.found.push(light),
-                LightShape::Sphere { .. } => self.mark(light.material),
-            }
-        }
-    }
-
-    fn shape(&mut self, shape: &Shape, material: MaterialId, m: Affine3A) {
-        let normal_of = |n: Vec3| (m.matrix3.inverse().transpose() * n).normalize_or_zero();
-        match shape {
-            Shape::Rect { plane, a, b, k } => {
-                let (axis, s0, s1) = match plane {
-                    RectPlane::Xy => (2, 0, 1),
-                    RectPlane::Xz => (1, 0, 2),
-                    RectPlane::Yz => (0, 1, 2),
-                };
-                let mut corner = Vec3::ZERO;
-                corner[axis] = *k;
-                corner[s0] = a.0.min(a.1);
-                corner[s1] = b.0.min(b.1);
-                let mut e0 = Vec3::ZERO;
-                e0[s0] = (a.1 - a.0).abs();
-                let mut e1 = Vec3::ZERO;
-                e1[s1] = (b.1 - b.0).abs();
-                let mut n = Vec3::ZERO;
-                n[axis] = 1.0;
-                let shape = LightShape::Parallelogram {
-                    corner: m.transform_point3(corner),
-                    edges: (m.transform_vector3(e0), m.transform_vector3(e1)),
-                    normal: normal_of(n),
-                };
-                self.push(shape, material);
-            }
-            Shape::Triangle { vertices } => {
-                let [a, b, c] = *vertices;
-                let n = unit_normal(a, b, c).unwrap_or(Vec3::ZERO);
-                let v = vertices.map(|p| m.transform_point3(p));
-                self.push(
-                    LightShape::Triangle {
-                        v,
-                        normal: normal_of(n),
-                    },
-                    material,
-                );
-            }
-            Shape::Sphere { center, radius } => match uniform_scale(m.matrix3) {
-                Some(s) => self.push(
-                    LightShape::Sphere {
-                        center: m.transform_point3(*center),
-                        radius: radius.abs() * s,
-                    },
-                    material,
-                ),
-                None => self.mark(material),
-            },
-            Shape::Cuboid { .. } | Shape::Plane { .. } | Shape::Revolution { .. } => {
-                self.mark(material)
-            }
-        }
-    }
-
-    fn mesh(&mut self, mesh: usize, materials: &[MaterialId], m: Affine3A) {
-        if materials.iter().all(|id| self.emitter(*id).is_none()) {
-            return;
-        }
-        let Some(data) = self.scene.meshes.get(mesh).cloned() else {
-            return;
-        };
-        let normal_matrix = m.matrix3.inverse().transpose();
-        for (i, tri) in data.triangles.iter().enumerate() {
-            let slot = data.triangle_material.get(i).copied().unwrap_or(0) as usize;
-            let Some(&material) = materials.get(slot.min(materials.len() - 1)) else {
-                continue;
-            };
-            if self.emitter(material).is_none() {
-                continue;
-            }
-            let Some(p) = tri
-                .map(|k| data.positions.get(k as usize).copied())
-                .into_iter()
-                .collect::<Option<Vec<Vec3>>>()
-            else {
-                continue;
-            };
-            let n = unit_normal(p[0], p[1], p[2]).unwrap_or(Vec3::ZERO);
-            self.push(
-                LightShape::Triangle {
-                    v: [p[0], p[1], p[2]].map(|q| m.transform_point3(q)),
-                    normal: (normal_matrix * n).normalize_or_zero(),
-                },
-                material,
-            );
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use glam::Mat4;
+
     use super::*;
+    use crate::geometry::Ray;
     use crate::render::scenes::cornell_box;
     use crate::sampling::SamplerKind;
+    use crate::scene::object::RectPlane;
+    use crate::scene::{Node, Shape};
+
+    fn world(scene: &Scene) -> World {
+        World::build(scene).expect("a world")
+    }
+
+    fn lights_of(scene: &Scene, selection: LightSelection) -> LightList {
+        LightList::for_render(scene, &world(scene), true, selection)
+    }
 
     #[test]
     fn the_cornell_lamp_is_one_downward_parallelogram() {
         let scene = cornell_box(16, 1);
-        let list = LightList::build(&scene, LightSelection::Tree);
+        let list = lights_of(&scene, LightSelection::Tree);
         assert_eq!(list.lights().len(), 1);
         match list.lights()[0].shape {
             LightShape::Parallelogram { normal, .. } => {
@@ -811,21 +543,19 @@ mod tests {
         (scene, id)
     }
 
-    /// Samples from `p`: the density agrees with `pdf`, and the mean of
-    /// 1/pdf is the solid angle the light subtends.
-    fn mean_inverse_pdf(
-        list: &LightList,
-        id: MaterialId,
-        p: Vec3,
-        normal_at: impl Fn(Vec3) -> Vec3,
-    ) -> f64 {
+    /// Samples from `p` the scene's one light (emitter 0): the density
+    /// agrees with `pdf`, and the mean of 1/pdf is the solid angle the
+    /// light subtends.
+    fn mean_inverse_pdf(list: &LightList, p: Vec3, normal_at: impl Fn(Vec3) -> Vec3) -> f64 {
         let mut rng = Sampler::for_sample(SamplerKind::Independent, 1, 0, 0, 0);
         let n = 40_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
             let s = list.sample(p, Vec3::ZERO, &mut rng).expect("visible");
             let x = p + s.dir * s.dist;
-            let again = list.pdf(id, p, Vec3::ZERO, x, normal_at(x));
+            let again = list
+                .pdf(LightId::new(0), p, Vec3::ZERO, x, normal_at(x))
+                .expect("a sampled light");
             assert!(
                 (again - s.pdf).abs() <= 2e-3 * s.pdf,
                 "{again} vs {}",
@@ -839,22 +569,29 @@ mod tests {
     /// A sphere of radius 1 at z = 3, two-sided, scaled by `scale`: the
     /// solid angle its samples integrate to from the origin, checked
     /// against the closed form, which does not depend on the scale.
-    fn check_sphere_solid_angle(scale: f32) {
+    /// The scale is the transform's, or with `baked` the shape's own (the
+    /// determinant of a scale by 2e17 leaves f32, so the world refuses it
+    /// as a transform).
+    fn check_sphere_solid_angle(scale: f32, baked: bool) {
         let c = Vec3::new(0.0, 0.0, 3.0 * scale);
-        let (scene, id) = one_light(
+        let (size, matrix) = match baked {
+            true => (scale, Mat4::IDENTITY),
+            false => (1.0, Mat4::from_scale(Vec3::splat(scale))),
+        };
+        let (scene, _) = one_light(
             Shape::Sphere {
-                center: Vec3::new(0.0, 0.0, 3.0),
-                radius: 1.0,
+                center: Vec3::new(0.0, 0.0, 3.0 * size),
+                radius: size,
             },
-            Mat4::from_scale(Vec3::splat(scale)),
+            matrix,
         );
-        let list = LightList::build(&scene, LightSelection::Tree);
+        let list = lights_of(&scene, LightSelection::Tree);
         assert_eq!(
             list.lights().len(),
             1,
             "the sphere at scale {scale} is sampled"
         );
-        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |x| (x - c).normalize());
+        let got = mean_inverse_pdf(&list, Vec3::ZERO, |x| (x - c).normalize());
         let cos_max = (1.0f64 - 1.0 / 9.0).sqrt();
         let solid = std::f64::consts::TAU * (1.0 - cos_max);
         assert!((got - solid).abs() < 2e-3 * solid, "{got} vs {solid}");
@@ -864,7 +601,7 @@ mod tests {
     /// angle from the origin, Ω = 4·atan(ab / (d·sqrt(a² + b² + d²))) with
     /// half sides a = b = 1 and d = 1 at scale 2, the same at any scale.
     fn check_rect_solid_angle(scale: f32) {
-        let (scene, id) = one_light(
+        let (scene, _) = one_light(
             Shape::Rect {
                 plane: RectPlane::Xy,
                 a: (-0.5, 0.5),
@@ -873,20 +610,20 @@ mod tests {
             },
             Mat4::from_scale(Vec3::splat(scale)),
         );
-        let list = LightList::build(&scene, LightSelection::Tree);
+        let list = lights_of(&scene, LightSelection::Tree);
         assert_eq!(
             list.lights().len(),
             1,
             "the rect at scale {scale} is sampled"
         );
-        let got = mean_inverse_pdf(&list, id, Vec3::ZERO, |_| Vec3::Z);
+        let got = mean_inverse_pdf(&list, Vec3::ZERO, |_| Vec3::Z);
         let solid = 4.0 * (1.0f64 / 3.0f64.sqrt()).atan();
         assert!((got - solid).abs() < 1e-2 * solid, "{got} vs {solid}");
     }
 
     #[test]
     fn sphere_cone_sampling_covers_the_subtended_solid_angle() {
-        check_sphere_solid_angle(2.0);
+        check_sphere_solid_angle(2.0, false);
     }
 
     #[test]
@@ -901,7 +638,7 @@ mod tests {
     #[test]
     fn huge_lights_are_sampled_with_the_solid_angle_of_small_ones() {
         check_rect_solid_angle(2e10);
-        check_sphere_solid_angle(2e17);
+        check_sphere_solid_angle(2e17, true);
     }
 
     #[test]
@@ -920,7 +657,7 @@ mod tests {
             emit: crate::scene::TextureId(0),
             two_sided: false,
         };
-        let list = LightList::build(&one_sided, LightSelection::Tree);
+        let list = lights_of(&one_sided, LightSelection::Tree);
         let mut rng = Sampler::for_sample(SamplerKind::Independent, 2, 0, 0, 0);
         assert!(list.sample(Vec3::ZERO, Vec3::ZERO, &mut rng).is_none());
         assert!(list
@@ -932,9 +669,14 @@ mod tests {
             motion: crate::scene::Motion::default(),
             child: Box::new(child),
         });
-        let list = LightList::build(&moving, LightSelection::Tree);
+        let list = lights_of(&moving, LightSelection::Tree);
         assert!(list.is_empty());
-        assert!(!list.is_sampled(MaterialId(0)));
+        let w = world(&moving);
+        assert_eq!(w.emitters().unlisted, [true]);
+        let hit = w
+            .intersect(&Ray::new(Vec3::ZERO, Vec3::Z, 0.0), 0.0, f32::INFINITY)
+            .expect("the moving lamp");
+        assert_eq!(hit.light, LightId::NONE);
     }
 
     /// Six rects facing down at different heights and three balls, all of
@@ -971,11 +713,21 @@ mod tests {
         (scene, id)
     }
 
+    /// Where a path from `p` along `dir` hits: the hit's light id and
+    /// point and normal.
+    fn hit_from(w: &World, p: Vec3, dir: Vec3) -> (LightId, Vec3, Vec3) {
+        let hit = w
+            .intersect(&Ray::new(p, dir, 0.0), 0.0, f32::INFINITY)
+            .expect("a lamp");
+        (hit.light, hit.point, hit.geo_normal)
+    }
+
     #[test]
     fn with_many_lights_choices_sum_to_one_and_each_sample_density_is_found_again() {
-        let (scene, id) = a_few_lamps();
+        let (scene, _) = a_few_lamps();
+        let w = world(&scene);
         for selection in [LightSelection::Power, LightSelection::Tree] {
-            let list = LightList::build(&scene, selection);
+            let list = LightList::build(&scene, w.emitters(), selection);
             assert_eq!(list.lights().len(), 9);
             let mut rng = Sampler::for_sample(SamplerKind::Independent, 3, 0, 0, 0);
             for (p, n) in [
@@ -990,8 +742,11 @@ mod tests {
                     let Some(s) = list.sample(p, n, &mut rng) else {
                         continue;
                     };
-                    let x = p + s.dir * s.dist;
-                    let again = list.pdf(id, p, n, x, s.target.normal);
+                    // The path that finds the sampled point by scattering
+                    // hits the light with the id naming it.
+                    let (id, x, normal) = hit_from(&w, p, s.dir);
+                    assert!((x - p).length() <= s.dist * (1.0 + 1e-4) + 1e-5);
+                    let again = list.pdf(id, p, n, x, normal).expect("a sampled light");
                     assert!(
                         (again - s.pdf).abs() <= 2e-3 * s.pdf,
                         "{selection:?} from {p}: {again} vs {}",
@@ -1000,6 +755,55 @@ mod tests {
                     found += 1;
                 }
                 assert!(found > 1000, "{found} samples");
+            }
+        }
+    }
+
+    /// Issue 13, item 4: a hit names its light, and the density found from
+    /// that name (no search over lights or materials; by the tree, the
+    /// product of the shares along the light's path from the root) is the
+    /// tree's probability of choosing that light from the shading point
+    /// times the light's own density of the point, worked out here from
+    /// its shape.
+    #[test]
+    fn the_density_of_every_lamp_hit_is_its_tree_probability_times_its_own() {
+        let (scene, _) = a_few_lamps();
+        let w = world(&scene);
+        let list = LightList::build(&scene, w.emitters(), LightSelection::Tree);
+        let points = [
+            (Vec3::new(0.0, 0.0, 0.0), Vec3::Y),
+            (Vec3::new(1.7, 0.2, -0.5), Vec3::new(0.6, 0.8, 0.0)),
+            (Vec3::new(-0.5, 0.5, 1.0), Vec3::ZERO),
+        ];
+        for (p, n) in points {
+            for (i, light) in list.lights().iter().enumerate() {
+                let (target, own): (Vec3, Box<dyn Fn(Vec3, Vec3) -> f64>) = match light.shape {
+                    LightShape::Parallelogram { corner, edges, .. } => {
+                        let area = edges.0.cross(edges.1).length() as f64;
+                        let solid = move |x: Vec3, normal: Vec3| {
+                            let to = (x - p).as_dvec3();
+                            let cos = normal.as_dvec3().dot(to).abs() / to.length();
+                            to.length_squared() / (cos * area)
+                        };
+                        (corner + 0.5 * (edges.0 + edges.1), Box::new(solid))
+                    }
+                    LightShape::Sphere { center, radius } => {
+                        let sin2 =
+                            (radius as f64).powi(2) / (center - p).as_dvec3().length_squared();
+                        let cone = std::f64::consts::TAU * (1.0 - (1.0 - sin2).sqrt());
+                        (center, Box::new(move |_, _| 1.0 / cone))
+                    }
+                    LightShape::Triangle { .. } => unreachable!("no triangle lamps"),
+                };
+                let (id, x, normal) = hit_from(&w, p, (target - p).normalize());
+                assert_eq!(list.index_of(id), Some(i), "from {p}, lamp {i}");
+                let want = list.tree.probability(i, p.as_dvec3(), n.as_dvec3()) * own(x, normal);
+                let got = f64::from(list.pdf(id, p, n, x, normal).expect("sampled"));
+                assert!(want > 0.0, "from {p}, lamp {i} cannot be chosen");
+                assert!(
+                    (got - want).abs() <= 1e-4 * want,
+                    "from {p}, lamp {i}: {got} vs {want}"
+                );
             }
         }
     }

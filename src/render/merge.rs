@@ -1,6 +1,6 @@
 //! Joining rendered pieces into one image: tiles of one pass are placed by
-//! their pixel bounds (refusing pieces of another scene, size, seed, depth or
-//! frame, overlaps and gaps); several passes are averaged weighted by their
+//! their pixel bounds (refusing pieces of another scene, size, seed,
+//! sampler, depth, light selection or frame, overlaps and gaps); several passes are averaged weighted by their
 //! samples per pixel. Tiles of a single pass are copied, so the result is
 //! bit-identical to a single-process render.
 
@@ -40,7 +40,7 @@ pub enum MergeError {
     #[diagnostic(
         code(rtlang::merge::mismatch),
         help(
-            "every piece must come from the same scene file, defines, frame, size, seed, sampler and depth"
+            "every piece must come from the same scene file, defines, frame, size, seed, sampler, depth and light selection"
         )
     )]
     Mismatch {
@@ -178,7 +178,7 @@ pub fn merge(pieces: &[Piece], average: bool) -> Result<Merged, MergeError> {
 
 fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
     let (a, b) = (&first.info, &p.info);
-    let fields: [(&'static str, String, String); 6] = [
+    let fields: [(&'static str, String, String); 7] = [
         ("scene", a.scene.clone(), b.scene.clone()),
         (
             "image size",
@@ -191,6 +191,11 @@ fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
             "max depth",
             a.max_depth.to_string(),
             b.max_depth.to_string(),
+        ),
+        (
+            "light selection",
+            a.light_selection.clone(),
+            b.light_selection.clone(),
         ),
         ("frame", a.frame.to_string(), b.frame.to_string()),
     ];

@@ -1,13 +1,15 @@
 //! What a rendered piece is: the JSON sidecar `IMAGE.json` written beside
 //! every image (`tile.exr` → `tile.exr.json`) naming the scene, the full
-//! image size, the pixel bounds, seed, pass and samples per pixel, so that
-//! `rtlang merge` can check that pieces belong together.
+//! image size, the pixel bounds, seed, sampler, depth, light selection, pass
+//! and samples per pixel, so that `rtlang merge` can check that pieces
+//! belong together.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::lights::LightSelection;
 use super::options::{Crop, RenderOptions};
 use crate::scene::digest::Fnv;
 use crate::scene::Scene;
@@ -27,6 +29,11 @@ pub struct PieceInfo {
     #[serde(default = "independent")]
     pub sampler: String,
     pub max_depth: u32,
+    /// How lights are chosen (`tree`, `power`), or `none` when no light is
+    /// sampled (`--integrator path`); sidecars written before it was
+    /// recorded were rendered by the default, the tree.
+    #[serde(default = "tree")]
+    pub light_selection: String,
     /// The animation frame the scene was evaluated at.
     pub frame: f64,
     pub pass: u32,
@@ -63,6 +70,7 @@ impl PieceInfo {
             seed: options.seed,
             sampler: options.sampler.name().to_string(),
             max_depth: options.max_depth,
+            light_selection: light_selection(options).to_string(),
             frame,
             pass: options.pass,
             spp: options.spp,
@@ -104,6 +112,18 @@ impl PieceInfo {
                 message: e.to_string(),
             }
         })
+    }
+}
+
+fn tree() -> String {
+    LightSelection::Tree.name().to_string()
+}
+
+/// What the sidecar records of how `options` chooses lights.
+fn light_selection(options: &RenderOptions) -> &'static str {
+    match options.light_sampling {
+        true => options.light_selection.name(),
+        false => "none",
     }
 }
 

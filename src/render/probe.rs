@@ -51,7 +51,12 @@ pub fn estimate(
     samples: u32,
 ) -> PixelEstimate {
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
-    let lights = LightList::for_render(scene, options.light_sampling, options.light_selection);
+    let lights = LightList::for_render(
+        scene,
+        world,
+        options.light_sampling,
+        options.light_selection,
+    );
     let tracer = Tracer::for_options(scene, world, &lights, options);
     let first = options.first_sample().unwrap_or(0);
     let (mut sum, mut sq, mut kept) = (Vec3::ZERO, glam::DVec3::ZERO, 0u32);

@@ -123,7 +123,12 @@ pub fn render_film(
     let start = Instant::now();
     let tiles = tiles_of(region);
     let camera = CameraRays::new(&scene.camera, options.width, options.height);
-    let lights = LightList::for_render(scene, options.light_sampling, options.light_selection);
+    let lights = LightList::for_render(
+        scene,
+        world,
+        options.light_sampling,
+        options.light_selection,
+    );
     let tracer = Tracer::for_options(scene, world, &lights, options);
     let pool = match options.threads {
         None => None,

@@ -3,8 +3,6 @@
 //! build the world and render a tiny image. Panics only when the pipeline
 //! misbehaves — a panic inside rtlang, or a non-finite pixel.
 
-use std::path::PathBuf;
-
 use rtlang::geometry::World;
 use rtlang::lang::{self, Options};
 use rtlang::render::{render, RenderOptions};
@@ -20,19 +18,10 @@ pub enum Reached {
     Rendered,
 }
 
-/// A file path private to this process and thread, in the temp directory.
-fn scratch_file() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rtlang-fuzz-{}", std::process::id()));
-    // A failure to create it shows up as an I/O diagnostic below.
-    let _ = std::fs::create_dir_all(&dir);
-    let thread = format!("{:?}", std::thread::current().id());
-    let tag: String = thread.chars().filter(char::is_ascii_digit).collect();
-    dir.join(format!("scene-{tag}.rt"))
-}
-
 /// Runs `bytes` as a scene file through the pipeline with a tiny render.
 pub fn run_scene(bytes: &[u8]) -> Reached {
-    let path = scratch_file();
+    let dir = super::scratch::folder("fuzz");
+    let path = dir.join("scene.rt");
     if std::fs::write(&path, bytes).is_err() {
         return Reached::Diagnosed;
     }

@@ -140,9 +140,6 @@ impl Evaluator {
         used: Span,
     ) -> Diagnostic {
         let (text, range) = error.excerpt();
-        let scene = self.sources.file(used.file);
-        let (line, column) = scene.line_col(used.start as usize);
-        let note = format!("the mesh is used at {}:{line}:{column}", scene.name);
         let file = self.sources.add(full, name, text.into());
         Diagnostic::error(
             Code::Mesh,
@@ -152,7 +149,6 @@ impl Evaluator {
         .label(&error.label)
         .related(used, "mesh used here")
         .help("fix the OBJ file, or export it again from its modelling tool")
-        .note(note)
     }
 
     /// A scene material for one of an OBJ's material slots.

@@ -1,0 +1,232 @@
+//! The emitters the world builder finds in the same walk that builds the
+//! geometry: every emissive rect, triangle, mesh triangle and sphere as a
+//! world-space [`LightShape`], numbered by the [`LightId`] that the
+//! primitive or triangle carries into its hits, so that a hit names its
+//! emitter without a search. Plain data: which emitters are sampled, and
+//! how, is the renderer's business (`render::lights`).
+//!
+//! An emitter the list cannot describe (a moving, planar, box, revolution
+//! or non-uniformly scaled spherical one, or a one-sided sphere turned
+//! inside out by `flip`) has no entry, and its material is marked
+//! [`Emitters::unlisted`].
+
+use glam::{Affine3A, Mat3A, Vec3};
+
+use super::shapes::triangle::unit_normal;
+use crate::scene::object::RectPlane;
+use crate::scene::{Material, MaterialId, Scene, Shape};
+
+/// Which emitter a primitive or triangle is: an index into
+/// [`Emitters::list`], or none. Inside a shared prototype the index counts
+/// from the prototype's first emitter; each placement adds its own base.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightId(u32);
+
+impl LightId {
+    /// Not an emitter (or one the list does not hold).
+    pub const NONE: LightId = LightId(u32::MAX);
+    /// The base of geometry whose emitters are numbered as they are.
+    pub const BASE: LightId = LightId(0);
+
+    pub fn new(index: usize) -> LightId {
+        u32::try_from(index)
+            .ok()
+            .filter(|&i| i != u32::MAX)
+            .map_or(LightId::NONE, LightId)
+    }
+
+    /// The index into [`Emitters::list`], if any.
+    #[inline]
+    pub fn index(self) -> Option<usize> {
+        (self != LightId::NONE).then_some(self.0 as usize)
+    }
+
+    /// This id seen through a placement whose emitters start at `base`
+    /// (`NONE` hides every emitter below it).
+    #[inline]
+    pub fn within(self, base: LightId) -> LightId {
+        if self == LightId::NONE || base == LightId::NONE {
+            return LightId::NONE;
+        }
+        LightId::new(self.0 as usize + base.0 as usize)
+    }
+}
+
+/// An emissive shape in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightShape {
+    /// The parallelogram `corner + s·edges.0 + t·edges.1`, s, t in [0, 1].
+    Parallelogram {
+        corner: Vec3,
+        edges: (Vec3, Vec3),
+        normal: Vec3,
+    },
+    Triangle {
+        v: [Vec3; 3],
+        normal: Vec3,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+}
+
+/// One emitter of the world.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Emitter {
+    pub shape: LightShape,
+    pub material: MaterialId,
+}
+
+/// Every emitter of the world, by [`LightId`].
+#[derive(Clone, Debug, Default)]
+pub struct Emitters {
+    /// `None` where the shape turned out not to be describable (a sphere
+    /// under a non-uniform scale, a flipped one-sided sphere).
+    pub list: Vec<Option<Emitter>>,
+    /// Per material: whether some emissive shape of it has no entry.
+    pub unlisted: Vec<bool>,
+}
+
+/// An emissive shape in its own space, as the scene gives it.
+#[derive(Clone, Copy, Debug)]
+pub enum Source {
+    Rect {
+        plane: RectPlane,
+        a: (f32, f32),
+        b: (f32, f32),
+        k: f32,
+    },
+    Triangle([Vec3; 3]),
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+}
+
+impl Source {
+    /// The source of `shape`, if it is a kind light sampling describes.
+    pub fn of(shape: &Shape) -> Option<Source> {
+        match *shape {
+            Shape::Rect { plane, a, b, k } => Some(Source::Rect { plane, a, b, k }),
+            Shape::Triangle { vertices } => Some(Source::Triangle(vertices)),
+            Shape::Sphere { center, radius } => Some(Source::Sphere { center, radius }),
+            Shape::Cuboid { .. } | Shape::Plane { .. } | Shape::Revolution { .. } => None,
+        }
+    }
+}
+
+/// A [`Source`] with what places it: its object-to-world map and the
+/// number of `flip`s around it.
+#[derive(Clone, Copy, Debug)]
+pub struct Placed {
+    pub source: Source,
+    pub to_world: Affine3A,
+    pub flips: u32,
+    pub material: MaterialId,
+}
+
+/// Whether `material` is a light.
+pub fn is_light(scene: &Scene, material: MaterialId) -> bool {
+    matches!(
+        scene.materials.get(material.0 as usize),
+        Some(Material::Light { .. })
+    )
+}
+
+/// Marks `material` in `unlisted`.
+pub fn mark(unlisted: &mut [bool], material: MaterialId) {
+    if let Some(u) = unlisted.get_mut(material.0 as usize) {
+        *u = true;
+    }
+}
+
+impl Emitters {
+    /// The world-space emitters of `placed`, in order; marks in `unlisted`
+    /// the materials of those that cannot be described.
+    pub fn finish(scene: &Scene, placed: &[Placed], mut unlisted: Vec<bool>) -> Emitters {
+        let list = placed
+            .iter()
+            .map(|p| {
+                let two_sided = matches!(
+                    scene.materials.get(p.material.0 as usize),
+                    Some(Material::Light {
+                        two_sided: true,
+                        ..
+                    })
+                );
+                let shape = p.shape().filter(|s| {
+                    !matches!(s, LightShape::Sphere { .. }) || p.flips == 0 || two_sided
+                });
+                if shape.is_none() {
+                    mark(&mut unlisted, p.material);
+                }
+                Some(Emitter {
+                    shape: shape?,
+                    material: p.material,
+                })
+            })
+            .collect();
+        Emitters { list, unlisted }
+    }
+}
+
+impl Placed {
+    /// The world-space shape; flat shapes face the other way under an odd
+    /// number of flips. `None` for a sphere that the map does not keep one.
+    fn shape(&self) -> Option<LightShape> {
+        let m = self.to_world;
+        let sign = if self.flips % 2 == 1 { -1.0 } else { 1.0 };
+        let normal_of = |n: Vec3| sign * (m.matrix3.inverse().transpose() * n).normalize_or_zero();
+        Some(match self.source {
+            Source::Rect { plane, a, b, k } => {
+                let (axis, s0, s1) = match plane {
+                    RectPlane::Xy => (2, 0, 1),
+                    RectPlane::Xz => (1, 0, 2),
+                    RectPlane::Yz => (0, 1, 2),
+                };
+                let mut corner = Vec3::ZERO;
+                corner[axis] = k;
+                corner[s0] = a.0.min(a.1);
+                corner[s1] = b.0.min(b.1);
+                let mut e0 = Vec3::ZERO;
+                e0[s0] = (a.1 - a.0).abs();
+                let mut e1 = Vec3::ZERO;
+                e1[s1] = (b.1 - b.0).abs();
+                let mut n = Vec3::ZERO;
+                n[axis] = 1.0;
+                LightShape::Parallelogram {
+                    corner: m.transform_point3(corner),
+                    edges: (m.transform_vector3(e0), m.transform_vector3(e1)),
+                    normal: normal_of(n),
+                }
+            }
+            Source::Triangle(v) => {
+                let n = unit_normal(v[0], v[1], v[2]).unwrap_or(Vec3::ZERO);
+                LightShape::Triangle {
+                    v: v.map(|p| m.transform_point3(p)),
+                    normal: normal_of(n),
+                }
+            }
+            Source::Sphere { center, radius } => LightShape::Sphere {
+                center: m.transform_point3(center),
+                radius: radius.abs() * uniform_scale(m.matrix3)?,
+            },
+        })
+    }
+}
+
+/// The uniform scale of a similarity transform, if `m` is one.
+fn uniform_scale(m: Mat3A) -> Option<f32> {
+    // In f64: the squared lengths of a huge scale's axes leave f32.
+    let (a, b, c) = (
+        m.x_axis.as_dvec3(),
+        m.y_axis.as_dvec3(),
+        m.z_axis.as_dvec3(),
+    );
+    let s = a.length();
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * s.max(1e-12);
+    let orthogonal =
+        close(a.dot(b) / s, 0.0) && close(a.dot(c) / s, 0.0) && close(b.dot(c) / s, 0.0);
+    (orthogonal && close(b.length(), s) && close(c.length(), s) && s > 0.0).then_some(s as f32)
+}
