@@ -106,6 +106,18 @@ pub fn summary<T: Bits>(values: &[T]) -> Summary {
     }
 }
 
+/// Serializes a large array as its length and digest (`serde`'s
+/// `serialize_with`): the scene identity then hashes each array's bits in one
+/// tight loop instead of encoding every number (the CBOR of a 2048 × 1024
+/// texture was 40 % of a render's start-up).
+pub fn serialize_summary<T: Bits, S: serde::Serializer>(
+    values: &[T],
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    let Summary { len, digest } = summary(values);
+    serde::Serialize::serialize(&(len, digest), s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

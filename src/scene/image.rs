@@ -9,6 +9,7 @@ use glam::Vec3;
 pub struct ImageData {
     pub width: u32,
     pub height: u32,
+    #[serde(serialize_with = "super::digest::serialize_summary")]
     pub pixels: Vec<Vec3>,
 }
 

@@ -9,12 +9,17 @@ use glam::{Vec2, Vec3};
 /// as `positions`, indexed by the same triangle indices.
 #[derive(Clone, Default, PartialEq, serde::Serialize)]
 pub struct MeshData {
+    #[serde(serialize_with = "super::digest::serialize_summary")]
     pub positions: Vec<Vec3>,
+    #[serde(serialize_with = "super::digest::serialize_summary")]
     pub normals: Vec<Vec3>,
+    #[serde(serialize_with = "super::digest::serialize_summary")]
     pub uvs: Vec<Vec2>,
+    #[serde(serialize_with = "super::digest::serialize_summary")]
     pub triangles: Vec<[u32; 3]>,
     /// Per-triangle index into `materials`; empty when the mesh has one
     /// material slot (or none).
+    #[serde(serialize_with = "super::digest::serialize_summary")]
     pub triangle_material: Vec<u16>,
     /// The materials the file itself asks for (from its MTL), one per slot;
     /// the scene maps each slot to a scene material unless it overrides them.
