@@ -46,6 +46,36 @@ impl LightBounds {
         0.5 * (self.min + self.max)
     }
 
+    /// What a query reads of these bounds, with the parts that do not
+    /// depend on the shading point worked out once.
+    fn cached(&self) -> NodeBounds {
+        NodeBounds {
+            centre: self.centre(),
+            r2: 0.25 * (self.max - self.min).length_squared(),
+            power: self.power,
+            axis: self.axis,
+            cos_spread: self.cos_spread,
+            sin_spread: (1.0 - self.cos_spread * self.cos_spread).max(0.0).sqrt(),
+            two_sided: self.two_sided,
+        }
+    }
+}
+
+/// A node's bounds as the descent reads them: the box as its bounding
+/// sphere (centre, squared radius) and the normal cone with its sine, all
+/// computed when the tree is built rather than at every shading point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct NodeBounds {
+    centre: DVec3,
+    r2: f64,
+    power: f64,
+    axis: DVec3,
+    cos_spread: f64,
+    sin_spread: f64,
+    two_sided: bool,
+}
+
+impl NodeBounds {
     /// An upper bound (up to a common factor) of the light these bounds
     /// can send to a point `p` whose surface has normal `n` (zero inside a
     /// medium): power over squared distance (at least the bounding
@@ -53,10 +83,9 @@ impl LightBounds {
     /// with the direction to `p` and the best cosine at `p`'s surface. All
     /// emitters here are diffuse, so nothing is emitted beyond 90° from a
     /// normal.
-    pub fn importance(&self, p: DVec3, n: DVec3) -> f64 {
-        let c = self.centre();
-        let r2 = 0.25 * (self.max - self.min).length_squared();
-        let to = p - c;
+    fn importance(&self, p: DVec3, n: DVec3) -> f64 {
+        let r2 = self.r2;
+        let to = p - self.centre;
         let dist2 = to.length_squared();
         let d2 = dist2.max(r2);
         if !(d2 > 0.0 && d2.is_finite()) {
@@ -79,8 +108,7 @@ impl LightBounds {
             cos_w = cos_w.abs();
         }
         let sin_w = (1.0 - cos_w * cos_w).max(0.0).sqrt();
-        let sin_o = (1.0 - self.cos_spread * self.cos_spread).max(0.0).sqrt();
-        let (sin_x, cos_x) = angle_minus((sin_w, cos_w), (sin_o, self.cos_spread));
+        let (sin_x, cos_x) = angle_minus((sin_w, cos_w), (self.sin_spread, self.cos_spread));
         let (_, cos_p) = angle_minus((sin_x, cos_x), (sin_b, cos_b));
         if cos_p <= 0.0 {
             return 0.0;
@@ -131,23 +159,27 @@ fn cone_union(a: (DVec3, f64), b: (DVec3, f64)) -> (DVec3, f64) {
     (axis, theta_o.cos())
 }
 
-#[derive(Clone, Copy, Debug)]
-enum Kind {
+/// Where a child link leads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Child {
     Leaf(u32),
-    /// An inner node; its first child follows it, this is the second.
     Inner(u32),
 }
 
+/// An inner node: its two children's bounds side by side (a descent weighs
+/// both at once, from one place in memory) and where each leads.
 #[derive(Clone, Copy, Debug)]
-struct Node {
-    bounds: LightBounds,
-    kind: Kind,
+struct Inner {
+    bounds: [NodeBounds; 2],
+    children: [Child; 2],
 }
 
-/// The hierarchy, and each light's path from the root.
+/// The hierarchy (inner nodes, the root first; none for fewer than two
+/// lights), and each light's path from the root.
 #[derive(Clone, Debug, Default)]
 pub struct LightTree {
-    nodes: Vec<Node>,
+    inner: Vec<Inner>,
+    lights: usize,
     /// Per light: the child taken at each level (bit k: 1 = second child)
     /// and the number of levels.
     paths: Vec<(u64, u32)>,
@@ -160,7 +192,8 @@ impl LightTree {
     /// Builds the tree over `lights` (indexed as given).
     pub fn build(lights: &[LightBounds]) -> LightTree {
         let mut tree = LightTree {
-            nodes: Vec::with_capacity(2 * lights.len()),
+            inner: Vec::with_capacity(lights.len().saturating_sub(1)),
+            lights: lights.len(),
             paths: vec![(0, 0); lights.len()],
         };
         let mut order: Vec<u32> = (0..lights.len() as u32).collect();
@@ -176,15 +209,10 @@ impl LightTree {
         order: &mut [u32],
         path: u64,
         depth: u32,
-    ) -> LightBounds {
+    ) -> (LightBounds, Child) {
         if let [one] = order {
-            let bounds = lights[*one as usize];
-            self.nodes.push(Node {
-                bounds,
-                kind: Kind::Leaf(*one),
-            });
             self.paths[*one as usize] = (path, depth);
-            return bounds;
+            return (lights[*one as usize], Child::Leaf(*one));
         }
         let (lo, hi) = order.iter().fold(
             (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
@@ -208,29 +236,27 @@ impl LightTree {
             );
             ca.total_cmp(&cb).then(a.cmp(&b))
         });
-        let here = self.nodes.len();
-        self.nodes.push(Node {
-            bounds: lights[order[0] as usize],
-            kind: Kind::Leaf(0),
+        let here = self.inner.len();
+        let placeholder = lights[order[0] as usize].cached();
+        self.inner.push(Inner {
+            bounds: [placeholder; 2],
+            children: [Child::Leaf(0); 2],
         });
         let (first, second) = order.split_at_mut(order.len() / 2);
-        let a = self.split(lights, first, path, depth + 1);
-        let right = self.nodes.len() as u32;
-        let b = self.split(lights, second, path | (1 << depth), depth + 1);
-        let bounds = a.union(&b);
-        self.nodes[here] = Node {
-            bounds,
-            kind: Kind::Inner(right),
+        let (a, first) = self.split(lights, first, path, depth + 1);
+        let (b, second) = self.split(lights, second, path | (1 << depth), depth + 1);
+        self.inner[here] = Inner {
+            bounds: [a.cached(), b.cached()],
+            children: [first, second],
         };
-        bounds
+        (a.union(&b), Child::Inner(here as u32))
     }
 
-    /// The probability of descending into the first child of the inner
-    /// node at `at` (whose second child is `second`) from `p` (normal `n`);
-    /// `None` if neither child can send `p` any light.
-    fn first_share(&self, at: usize, second: usize, p: DVec3, n: DVec3) -> Option<f64> {
-        let a = self.nodes[at + 1].bounds.importance(p, n);
-        let b = self.nodes[second].bounds.importance(p, n);
+    /// The probability of descending into the first child of `node` from
+    /// `p` (normal `n`); `None` if neither child can send `p` any light.
+    fn first_share(node: &Inner, p: DVec3, n: DVec3) -> Option<f64> {
+        let a = node.bounds[0].importance(p, n);
+        let b = node.bounds[1].importance(p, n);
         let sum = a + b;
         (sum > 0.0 && sum.is_finite()).then(|| a / sum)
     }
@@ -238,24 +264,26 @@ impl LightTree {
     /// Chooses a light for `p` (normal `n`, zero in a medium) with the
     /// uniform number `u`: its index and the probability of choosing it.
     pub fn sample(&self, p: DVec3, n: DVec3, u: f64) -> Option<(usize, f64)> {
+        if self.lights == 1 {
+            return Some((0, 1.0));
+        }
         let mut u = u.min(ONE_MINUS_EPSILON);
-        let mut at = 0;
+        let mut node = self.inner.first()?;
         let mut prob = 1.0;
         loop {
-            match self.nodes.get(at)?.kind {
-                Kind::Leaf(i) => return Some((i as usize, prob)),
-                Kind::Inner(second) => {
-                    let first = self.first_share(at, second as usize, p, n)?;
-                    if u < first {
-                        u = (u / first).min(ONE_MINUS_EPSILON);
-                        prob *= first;
-                        at += 1;
-                    } else {
-                        u = ((u - first) / (1.0 - first)).min(ONE_MINUS_EPSILON);
-                        prob *= 1.0 - first;
-                        at = second as usize;
-                    }
-                }
+            let first = Self::first_share(node, p, n)?;
+            let next = if u < first {
+                u = (u / first).min(ONE_MINUS_EPSILON);
+                prob *= first;
+                node.children[0]
+            } else {
+                u = ((u - first) / (1.0 - first)).min(ONE_MINUS_EPSILON);
+                prob *= 1.0 - first;
+                node.children[1]
+            };
+            match next {
+                Child::Leaf(i) => return Some((i as usize, prob)),
+                Child::Inner(at) => node = self.inner.get(at as usize)?,
             }
         }
     }
@@ -269,18 +297,17 @@ impl LightTree {
         let mut at = 0;
         let mut prob = 1.0;
         for level in 0..depth {
-            let Some(Kind::Inner(second)) = self.nodes.get(at).map(|n| n.kind) else {
+            let Some(node) = self.inner.get(at) else {
                 return 0.0;
             };
-            let Some(first) = self.first_share(at, second as usize, p, n) else {
+            let Some(first) = Self::first_share(node, p, n) else {
                 return 0.0;
             };
-            if path & (1 << level) == 0 {
-                prob *= first;
-                at += 1;
-            } else {
-                prob *= 1.0 - first;
-                at = second as usize;
+            let side = usize::from(path & (1 << level) != 0);
+            prob *= if side == 0 { first } else { 1.0 - first };
+            match node.children[side] {
+                Child::Inner(next) => at = next as usize,
+                Child::Leaf(_) => break,
             }
         }
         prob
@@ -368,14 +395,14 @@ mod tests {
         let (a, b) = (LightTree::build(&lights), LightTree::build(&lights));
         assert_eq!(a.paths, b.paths);
         let mut seen = vec![false; lights.len()];
-        for node in &a.nodes {
-            if let Kind::Leaf(i) = node.kind {
+        for child in a.inner.iter().flat_map(|node| node.children) {
+            if let Child::Leaf(i) = child {
                 assert!(!seen[i as usize]);
                 seen[i as usize] = true;
             }
         }
         assert!(seen.iter().all(|s| *s));
-        assert_eq!(a.nodes.len(), 2 * lights.len() - 1);
+        assert_eq!(a.inner.len(), lights.len() - 1);
     }
 
     #[test]
