@@ -45,81 +45,116 @@ impl LightBounds {
     fn centre(&self) -> DVec3 {
         0.5 * (self.min + self.max)
     }
+}
 
-    /// What a query reads of these bounds, with the parts that do not
-    /// depend on the shading point worked out once.
-    fn cached(&self) -> NodeBounds {
-        NodeBounds {
-            centre: self.centre(),
-            r2: 0.25 * (self.max - self.min).length_squared(),
-            power: self.power,
-            axis: self.axis,
-            cos_spread: self.cos_spread,
-            sin_spread: (1.0 - self.cos_spread * self.cos_spread).max(0.0).sqrt(),
-            two_sided: self.two_sided,
+/// Two values side by side, one per child of a node.
+type Lanes = [f64; 2];
+
+/// The lanes `f(0)`, `f(1)`: written once, run for both children with the
+/// same instructions (the compiler pairs them into 2-wide SSE2 operations,
+/// whose square roots and divisions round exactly like scalar ones, so the
+/// results are bit for bit those of one child at a time).
+fn lanes(f: impl Fn(usize) -> f64) -> Lanes {
+    [f(0), f(1)]
+}
+
+/// An inner node's two children's bounds as the descent reads them, in
+/// lanes (0: first child, 1: second): each box as its bounding sphere
+/// (centre, squared radius) and each normal cone with its sine, all worked
+/// out when the tree is built rather than at every shading point.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    centre: [Lanes; 3],
+    r2: Lanes,
+    power: Lanes,
+    axis: [Lanes; 3],
+    cos_spread: Lanes,
+    sin_spread: Lanes,
+    two_sided: [bool; 2],
+}
+
+impl Pair {
+    fn of(b: [LightBounds; 2]) -> Pair {
+        let centre = b.map(|b| b.centre());
+        Pair {
+            centre: [0, 1, 2].map(|j| lanes(|k| centre[k][j])),
+            r2: lanes(|k| 0.25 * (b[k].max - b[k].min).length_squared()),
+            power: lanes(|k| b[k].power),
+            axis: [0, 1, 2].map(|j| lanes(|k| b[k].axis[j])),
+            cos_spread: lanes(|k| b[k].cos_spread),
+            sin_spread: lanes(|k| (1.0 - b[k].cos_spread * b[k].cos_spread).max(0.0).sqrt()),
+            two_sided: b.map(|b| b.two_sided),
         }
     }
-}
 
-/// A node's bounds as the descent reads them: the box as its bounding
-/// sphere (centre, squared radius) and the normal cone with its sine, all
-/// computed when the tree is built rather than at every shading point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct NodeBounds {
-    centre: DVec3,
-    r2: f64,
-    power: f64,
-    axis: DVec3,
-    cos_spread: f64,
-    sin_spread: f64,
-    two_sided: bool,
-}
-
-impl NodeBounds {
-    /// An upper bound (up to a common factor) of the light these bounds
-    /// can send to a point `p` whose surface has normal `n` (zero inside a
-    /// medium): power over squared distance (at least the bounding
-    /// sphere's radius), times the best cosine any emitting normal can make
-    /// with the direction to `p` and the best cosine at `p`'s surface. All
-    /// emitters here are diffuse, so nothing is emitted beyond 90° from a
-    /// normal.
-    fn importance(&self, p: DVec3, n: DVec3) -> f64 {
+    /// Per child, an upper bound (up to a common factor) of the light its
+    /// bounds can send to a point `p` whose surface has normal `n` (zero
+    /// inside a medium): power over squared distance (at least the
+    /// bounding sphere's radius), times the best cosine any emitting normal
+    /// can make with the direction to `p` and the best cosine at `p`'s
+    /// surface. All emitters here are diffuse, so nothing is emitted beyond
+    /// 90° from a normal. Both lanes run every step (no branch per child);
+    /// the special cases are chosen at the end.
+    fn importance(&self, p: DVec3, n: DVec3) -> Lanes {
         let r2 = self.r2;
-        let to = p - self.centre;
-        let dist2 = to.length_squared();
-        let d2 = dist2.max(r2);
-        if !(d2 > 0.0 && d2.is_finite()) {
-            return self.power;
-        }
-        let wi = if dist2 > 0.0 {
-            to / dist2.sqrt()
-        } else {
-            DVec3::Z
-        };
+        let to = [0, 1, 2].map(|j| lanes(|k| p[j] - self.centre[j][k]));
+        let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
+        let d2 = lanes(|k| dist2[k].max(r2[k]));
+        let dist = lanes(|k| dist2[k].sqrt());
+        let wi = [0, 1, 2].map(|j| {
+            lanes(|k| {
+                if dist2[k] > 0.0 {
+                    to[j][k] / dist[k]
+                } else {
+                    DVec3::Z[j]
+                }
+            })
+        });
         // The angle the bounds subtend from p (everything if p is inside).
-        let (sin_b, cos_b) = if dist2 <= r2 {
-            (0.0, -1.0)
-        } else {
-            let sin2 = r2 / dist2;
-            (sin2.sqrt(), (1.0 - sin2).sqrt())
-        };
-        let mut cos_w = self.axis.dot(wi);
-        if self.two_sided {
-            cos_w = cos_w.abs();
-        }
-        let sin_w = (1.0 - cos_w * cos_w).max(0.0).sqrt();
-        let (sin_x, cos_x) = angle_minus((sin_w, cos_w), (self.sin_spread, self.cos_spread));
-        let (_, cos_p) = angle_minus((sin_x, cos_x), (sin_b, cos_b));
-        if cos_p <= 0.0 {
-            return 0.0;
-        }
-        let mut importance = self.power * cos_p / d2;
+        let sin2 = lanes(|k| r2[k] / dist2[k]);
+        let inside = [0, 1].map(|k| dist2[k] <= r2[k]);
+        let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin2[k].sqrt() });
+        let cos_b = lanes(|k| {
+            if inside[k] {
+                -1.0
+            } else {
+                (1.0 - sin2[k]).sqrt()
+            }
+        });
+        let dot = |v: [f64; 3], k: usize| v[0] * wi[0][k] + v[1] * wi[1][k] + v[2] * wi[2][k];
+        let cos_w = lanes(|k| {
+            let c = dot([0, 1, 2].map(|j| self.axis[j][k]), k);
+            if self.two_sided[k] {
+                c.abs()
+            } else {
+                c
+            }
+        });
+        let sin_w = lanes(|k| (1.0 - cos_w[k] * cos_w[k]).max(0.0).sqrt());
+        let x = [0, 1].map(|k| {
+            angle_minus(
+                (sin_w[k], cos_w[k]),
+                (self.sin_spread[k], self.cos_spread[k]),
+            )
+        });
+        let cos_p = lanes(|k| angle_minus(x[k], (sin_b[k], cos_b[k])).1);
+        let mut importance = lanes(|k| self.power[k] * cos_p[k] / d2[k]);
         if n != DVec3::ZERO {
-            let cos_i = n.dot(wi).abs();
-            let sin_i = (1.0 - cos_i * cos_i).max(0.0).sqrt();
-            importance *= angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
+            let cos_i = lanes(|k| dot(n.to_array(), k).abs());
+            let sin_i = lanes(|k| (1.0 - cos_i[k] * cos_i[k]).max(0.0).sqrt());
+            importance = lanes(|k| {
+                importance[k] * angle_minus((sin_i[k], cos_i[k]), (sin_b[k], cos_b[k])).1
+            });
         }
-        importance.max(0.0)
+        lanes(|k| {
+            if !(d2[k] > 0.0 && d2[k].is_finite()) {
+                self.power[k]
+            } else if cos_p[k] <= 0.0 {
+                0.0
+            } else {
+                importance[k].max(0.0)
+            }
+        })
     }
 }
 
@@ -170,7 +205,7 @@ enum Child {
 /// both at once, from one place in memory) and where each leads.
 #[derive(Clone, Copy, Debug)]
 struct Inner {
-    bounds: [NodeBounds; 2],
+    bounds: Pair,
     children: [Child; 2],
 }
 
@@ -237,16 +272,16 @@ impl LightTree {
             ca.total_cmp(&cb).then(a.cmp(&b))
         });
         let here = self.inner.len();
-        let placeholder = lights[order[0] as usize].cached();
+        let placeholder = lights[order[0] as usize];
         self.inner.push(Inner {
-            bounds: [placeholder; 2],
+            bounds: Pair::of([placeholder; 2]),
             children: [Child::Leaf(0); 2],
         });
         let (first, second) = order.split_at_mut(order.len() / 2);
         let (a, first) = self.split(lights, first, path, depth + 1);
         let (b, second) = self.split(lights, second, path | (1 << depth), depth + 1);
         self.inner[here] = Inner {
-            bounds: [a.cached(), b.cached()],
+            bounds: Pair::of([a, b]),
             children: [first, second],
         };
         (a.union(&b), Child::Inner(here as u32))
@@ -255,8 +290,7 @@ impl LightTree {
     /// The probability of descending into the first child of `node` from
     /// `p` (normal `n`); `None` if neither child can send `p` any light.
     fn first_share(node: &Inner, p: DVec3, n: DVec3) -> Option<f64> {
-        let a = node.bounds[0].importance(p, n);
-        let b = node.bounds[1].importance(p, n);
+        let [a, b] = node.bounds.importance(p, n);
         let sum = a + b;
         (sum > 0.0 && sum.is_finite()).then(|| a / sum)
     }
