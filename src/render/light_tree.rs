@@ -54,8 +54,14 @@ type Lanes = [f64; 2];
 /// same instructions (the compiler pairs them into 2-wide SSE2 operations,
 /// whose square roots and divisions round exactly like scalar ones, so the
 /// results are bit for bit those of one child at a time).
-fn lanes(f: impl Fn(usize) -> f64) -> Lanes {
+fn lanes<T>(f: impl Fn(usize) -> T) -> [T; 2] {
     [f(0), f(1)]
+}
+
+/// The coordinates `f(0)`, `f(1)`, `f(2)` (not `xyz(f)`, which
+/// the compiler leaves as a call here).
+fn xyz<T>(f: impl Fn(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
 }
 
 /// An inner node's two children's bounds as the descent reads them, in
@@ -75,15 +81,15 @@ struct Pair {
 
 impl Pair {
     fn of(b: [LightBounds; 2]) -> Pair {
-        let centre = b.map(|b| b.centre());
+        let centre = lanes(|k| b[k].centre());
         Pair {
-            centre: [0, 1, 2].map(|j| lanes(|k| centre[k][j])),
+            centre: xyz(|j| lanes(|k| centre[k][j])),
             r2: lanes(|k| 0.25 * (b[k].max - b[k].min).length_squared()),
             power: lanes(|k| b[k].power),
-            axis: [0, 1, 2].map(|j| lanes(|k| b[k].axis[j])),
+            axis: xyz(|j| lanes(|k| b[k].axis[j])),
             cos_spread: lanes(|k| b[k].cos_spread),
             sin_spread: lanes(|k| (1.0 - b[k].cos_spread * b[k].cos_spread).max(0.0).sqrt()),
-            two_sided: b.map(|b| b.two_sided),
+            two_sided: lanes(|k| b[k].two_sided),
         }
     }
 
@@ -97,11 +103,11 @@ impl Pair {
     /// the special cases are chosen at the end.
     fn importance(&self, p: DVec3, n: DVec3) -> Lanes {
         let r2 = self.r2;
-        let to = [0, 1, 2].map(|j| lanes(|k| p[j] - self.centre[j][k]));
+        let to = xyz(|j| lanes(|k| p[j] - self.centre[j][k]));
         let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
         let d2 = lanes(|k| dist2[k].max(r2[k]));
         let dist = lanes(|k| dist2[k].sqrt());
-        let wi = [0, 1, 2].map(|j| {
+        let wi = xyz(|j| {
             lanes(|k| {
                 if dist2[k] > 0.0 {
                     to[j][k] / dist[k]
@@ -112,7 +118,7 @@ impl Pair {
         });
         // The angle the bounds subtend from p (everything if p is inside).
         let sin2 = lanes(|k| r2[k] / dist2[k]);
-        let inside = [0, 1].map(|k| dist2[k] <= r2[k]);
+        let inside = lanes(|k| dist2[k] <= r2[k]);
         let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin2[k].sqrt() });
         let cos_b = lanes(|k| {
             if inside[k] {
@@ -123,7 +129,7 @@ impl Pair {
         });
         let dot = |v: [f64; 3], k: usize| v[0] * wi[0][k] + v[1] * wi[1][k] + v[2] * wi[2][k];
         let cos_w = lanes(|k| {
-            let c = dot([0, 1, 2].map(|j| self.axis[j][k]), k);
+            let c = dot(xyz(|j| self.axis[j][k]), k);
             if self.two_sided[k] {
                 c.abs()
             } else {
@@ -131,7 +137,7 @@ impl Pair {
             }
         });
         let sin_w = lanes(|k| (1.0 - cos_w[k] * cos_w[k]).max(0.0).sqrt());
-        let x = [0, 1].map(|k| {
+        let x = lanes(|k| {
             angle_minus(
                 (sin_w[k], cos_w[k]),
                 (self.sin_spread[k], self.cos_spread[k]),
