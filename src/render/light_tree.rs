@@ -51,15 +51,15 @@ impl LightBounds {
 type Lanes = [f64; 2];
 
 /// The lanes `f(0)`, `f(1)`: written once, run for both children with the
-/// same instructions (the compiler pairs them into 2-wide SSE2 operations,
-/// whose square roots and divisions round exactly like scalar ones, so the
-/// results are bit for bit those of one child at a time).
+/// same instructions (the compiler pairs some of them into 2-wide SSE2
+/// operations, whose square roots and divisions round exactly like scalar
+/// ones, so the results are bit for bit those of one child at a time).
 fn lanes<T>(f: impl Fn(usize) -> T) -> [T; 2] {
     [f(0), f(1)]
 }
 
-/// The coordinates `f(0)`, `f(1)`, `f(2)` (not `xyz(f)`, which
-/// the compiler leaves as a call here).
+/// The coordinates `f(0)`, `f(1)`, `f(2)` (not `[0, 1, 2].map(f)`, which
+/// the compiler left as a call per use, 5% of a lamps.rt render).
 fn xyz<T>(f: impl Fn(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
 }
@@ -443,6 +443,29 @@ mod tests {
         }
         assert!(seen.iter().all(|s| *s));
         assert_eq!(a.inner.len(), lights.len() - 1);
+    }
+
+    #[test]
+    fn each_lane_weighs_its_own_child_alone() {
+        let mut lights = field();
+        let mut facing_up = lamp(DVec3::new(0.5, -2.0, 0.5), 3.0);
+        facing_up.axis = DVec3::Y;
+        facing_up.two_sided = true;
+        lights.push(facing_up);
+        let (a, b) = (lights[0].union(&lights[8]), lights[36]);
+        for (p, n) in [
+            (DVec3::new(3.0, 0.0, 2.0), DVec3::Y),
+            (DVec3::new(0.0, 1.0, 0.0), DVec3::ZERO),
+            (DVec3::new(0.5, -2.0, 0.5), DVec3::X),
+        ] {
+            for c in [a, b, facing_up] {
+                let [x, y] = Pair::of([c, b]).importance(p, n);
+                let [z, w] = Pair::of([a, c]).importance(p, n);
+                assert_eq!(x.to_bits(), w.to_bits());
+                assert_eq!(y.to_bits(), Pair::of([b, b]).importance(p, n)[0].to_bits());
+                assert_eq!(z.to_bits(), Pair::of([a, a]).importance(p, n)[1].to_bits());
+            }
+        }
     }
 
     #[test]
