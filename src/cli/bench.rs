@@ -249,9 +249,10 @@ fn convergence(
     ExitCode::SUCCESS
 }
 
-/// Light sampling by `a` (method, sampler) against `b`, named `label`:
-/// the ratio of relative MSEs at each spp and at `b`'s longest time, if
-/// both were measured.
+/// Light sampling by `a` (method, sampler) against `b`, named `label`: at
+/// each spp both measured, the ratio of relative MSEs and of relative MSE ×
+/// wall time; then the relMSE ratio at equal time, at the longest time both
+/// series reach (interpolated log-log).
 fn ratios(
     result: &Convergence,
     spps: &[u32],
@@ -259,25 +260,35 @@ fn ratios(
     b: (Method, SamplerKind),
     label: &str,
 ) -> String {
+    let at = |(method, sampler): (Method, SamplerKind), spp: u32| {
+        result
+            .series(method, sampler)
+            .find(|m| m.spp == spp)
+            .map(|m| (m.metrics.rel_mse, m.wall.as_secs_f64()))
+    };
     let mut s = String::new();
     for &spp in spps {
-        if let (Some(x), Some(y)) = (
-            result.rel_mse_at_spp(a.0, a.1, spp),
-            result.rel_mse_at_spp(b.0, b.1, spp),
-        ) {
-            s += &format!("\nnee at {spp} spp: relMSE {label} = {:.2}×", x / y);
+        if let (Some((x, tx)), Some((y, ty))) = (at(a, spp), at(b, spp)) {
+            s += &format!(
+                "\nnee at {spp} spp: {label}: relMSE {:.2}×, relMSE × time {:.2}×",
+                x / y,
+                (x * tx) / (y * ty)
+            );
         }
     }
-    let last = result
-        .series(b.0, b.1)
-        .map(|m| m.wall.as_secs_f64())
-        .fold(0.0f64, f64::max);
+    let longest = |(method, sampler): (Method, SamplerKind)| {
+        result
+            .series(method, sampler)
+            .map(|m| m.wall.as_secs_f64())
+            .fold(0.0f64, f64::max)
+    };
+    let common = longest(a).min(longest(b));
     if let (Some(x), Some(y)) = (
-        result.rel_mse_at(a.0, a.1, last),
-        result.rel_mse_at(b.0, b.1, last),
+        result.rel_mse_at(a.0, a.1, common),
+        result.rel_mse_at(b.0, b.1, common),
     ) {
         s += &format!(
-            "\n\nAt equal time ({last:.2} s), nee: error × time {label} = {:.2}×\n",
+            "\n\nAt equal time ({common:.2} s), nee: relMSE {label} = {:.2}×\n",
             x / y
         );
     }
@@ -306,5 +317,70 @@ fn plot(result: &Convergence, title: &str) -> LogLogPlot {
         series,
         width: 640,
         height: 420,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use rtlang::picture::metrics::Metrics;
+    use rtlang::render::convergence::{Convergence, Measurement, Method};
+    use rtlang::sampling::SamplerKind;
+
+    use super::ratios;
+
+    fn measured(sampler: SamplerKind, spp: u32, seconds: f64, rel_mse: f64) -> Measurement {
+        Measurement {
+            method: Method::Nee,
+            sampler,
+            spp,
+            mean_spp: spp as f64,
+            wall: Duration::from_secs_f64(seconds),
+            metrics: Metrics {
+                rmse: rel_mse.sqrt(),
+                rel_mse,
+                psnr: 30.0,
+            },
+        }
+    }
+
+    /// Sobol' here is faster per sample and has lower error, so its series
+    /// ends earlier: the equal-time ratio must be taken within both series
+    /// (at 2 s, where independent is interpolated between 1 s and 4 s), and
+    /// each spp line gives relMSE and relMSE × time.
+    #[test]
+    fn ratios_give_error_times_time_and_equal_time_within_both_series() {
+        let (ind, sob) = (SamplerKind::Independent, SamplerKind::Sobol);
+        let result = Convergence {
+            reference_spp: 1024,
+            reference_wall: Duration::from_secs(10),
+            measurements: vec![
+                measured(ind, 16, 1.0, 0.04),
+                measured(ind, 64, 4.0, 0.01),
+                measured(sob, 16, 0.5, 0.02),
+                measured(sob, 64, 2.0, 0.004),
+            ],
+        };
+        let s = ratios(
+            &result,
+            &[16, 64],
+            (Method::Nee, sob),
+            (Method::Nee, ind),
+            "sobol / independent",
+        );
+        assert!(
+            s.contains("nee at 16 spp: sobol / independent: relMSE 0.50×, relMSE × time 0.25×"),
+            "{s}"
+        );
+        assert!(
+            s.contains("nee at 64 spp: sobol / independent: relMSE 0.40×, relMSE × time 0.20×"),
+            "{s}"
+        );
+        // Independent at 2 s: log-log halfway from (1 s, 0.04) to (4 s, 0.01) is 0.02.
+        assert!(
+            s.contains("At equal time (2.00 s), nee: relMSE sobol / independent = 0.20×"),
+            "{s}"
+        );
     }
 }
