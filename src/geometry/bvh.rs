@@ -117,7 +117,7 @@ impl BvhNode {
 
     /// The entry distance of the ray into each child's box within
     /// `(0, t_max)`, or infinity where it misses: one four-lane slab test;
-    /// and how many children it enters.
+    /// and the mask of the children it enters (bit `i` for lane `i`).
     #[inline(always)]
     fn hit(&self, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], usize) {
         let mut near = f32x4::ZERO;
@@ -134,7 +134,7 @@ impl BvhNode {
         }
         let entered = near.cmp_le(far * f32x4::splat(ROBUST));
         let dist = entered.blend(near, f32x4::splat(f32::INFINITY));
-        (dist.to_array(), entered.move_mask().count_ones() as usize)
+        (dist.to_array(), (entered.move_mask() & 15) as usize)
     }
 }
 
@@ -177,6 +177,29 @@ fn sorted_lanes(dist: [f32; WIDTH]) -> [u64; WIDTH] {
         k[j] = hi;
     }
     k
+}
+
+/// How many bits of a four-bit mask are set (a table: without `popcnt` in
+/// the baseline x86-64 target, `count_ones` is a dozen instructions).
+const HITS: [u8; 16] = [0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4];
+/// The lowest set bit of a four-bit mask (0 for none).
+const FIRST: [u8; 16] = [0, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0];
+
+/// The children hit in ascending key order, as [`sorted_lanes`] gives them,
+/// and how many there are. One or two children (most nodes a coherent ray
+/// visits) are ordered by one minimum and maximum instead of the network.
+#[inline(always)]
+fn ordered_hits(dist: [f32; WIDTH], mask: usize) -> ([u64; WIDTH], usize) {
+    let n = HITS[mask] as usize;
+    if n > 2 {
+        return (sorted_lanes(dist), n);
+    }
+    let (a, b) = (
+        FIRST[mask] as usize,
+        FIRST[mask & mask.wrapping_sub(1)] as usize,
+    );
+    let (ka, kb) = (lane_key(dist[a], a), lane_key(dist[b], b));
+    ([ka.min(kb), ka.max(kb), 0, 0], n)
 }
 
 impl Bvh {
@@ -292,8 +315,8 @@ impl Bvh {
             None
         }) {
             let node = &self.nodes[index as usize];
-            let (dist, n) = node.hit(&box_ray, t_max);
-            let order = sorted_lanes(dist);
+            let (dist, mask) = node.hit(&box_ray, t_max);
+            let (order, n) = ordered_hits(dist, mask);
             // Leaves at once, nearest first, so their hits cull what follows.
             for &key in &order[..n] {
                 let (lane, d) = unpack_key(key);
