@@ -16,7 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rtlang::geometry::World;
 use rtlang::render::checkpoint::{self, Header};
 use rtlang::render::lights::LightSelection;
-use rtlang::render::output::{write_image, Format};
+use rtlang::render::output::{write_image_at_quality, Format, JPEG_QUALITY};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
 use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
@@ -44,6 +44,10 @@ pub struct RenderArgs {
     /// Output image (.png, .jpg, .ppm or .exr).
     #[arg(short, long)]
     output: PathBuf,
+    /// JPEG quality, 1–100, when the output is .jpg (smaller files, more
+    /// block artefacts as it falls).
+    #[arg(long, default_value_t = JPEG_QUALITY, value_parser = clap::value_parser!(u8).range(1..=100))]
+    jpeg_quality: u8,
     /// Samples per pixel (overrides the scene).
     #[arg(long)]
     spp: Option<u32>,
@@ -393,7 +397,12 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         spp_reached: reached,
         ..header.piece.clone()
     };
-    write_outputs(&output, &film, wants_sidecar(args).then_some(&info))?;
+    write_outputs(
+        &output,
+        args.jpeg_quality,
+        &film,
+        wants_sidecar(args).then_some(&info),
+    )?;
     if mode == Progress::Json {
         let event = if interrupted { "interrupted" } else { "pass" };
         outln!("{}", meter.report(event, fnum, pass, meter.done()).json());
@@ -486,9 +495,15 @@ fn wants_sidecar(args: &RenderArgs) -> bool {
         || args.checkpoint.is_some()
 }
 
-fn write_outputs(output: &Path, film: &Film, info: Option<&PieceInfo>) -> Result<(), Failure> {
+fn write_outputs(
+    output: &Path,
+    jpeg_quality: u8,
+    film: &Film,
+    info: Option<&PieceInfo>,
+) -> Result<(), Failure> {
     let r = film.region;
-    write_image(output, r.width(), r.height(), &film.pixels()).map_err(fail)?;
+    write_image_at_quality(output, r.width(), r.height(), &film.pixels(), jpeg_quality)
+        .map_err(fail)?;
     match info {
         Some(info) => info.write(output).map_err(fail),
         None => Ok(()),

@@ -1,5 +1,5 @@
-//! Writing rendered images: PNG (8-bit sRGB), JPEG (sRGB, quality 92, for
-//! pictures that must stay small on disk), PPM (plain P3, as the seed wrote)
+//! Writing rendered images: PNG (8-bit sRGB), JPEG (sRGB, quality 92 unless
+//! asked otherwise, for pictures that must stay small on disk), PPM (plain P3, as the seed wrote)
 //! and OpenEXR (linear f32), chosen by the file extension, written to a
 //! temporary file beside the target and renamed over it only when complete.
 
@@ -44,9 +44,10 @@ impl Format {
     }
 }
 
-/// JPEG quality of written pictures: high enough that a clean render shows no
-/// block artefacts at 100 % zoom, about a quarter of the PNG's size.
-const JPEG_QUALITY: u8 = 92;
+/// JPEG quality of written pictures unless asked otherwise: high enough that
+/// a clean render shows no block artefacts at 100 % zoom, about a quarter of
+/// the PNG's size.
+pub const JPEG_QUALITY: u8 = 92;
 
 /// Encodes one linear channel as an 8-bit sRGB value.
 pub fn linear_to_srgb8(c: f32) -> u8 {
@@ -59,15 +60,29 @@ pub fn linear_to_srgb8(c: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
-/// Writes `pixels` (linear RGB, row 0 at the top) to `path` atomically.
+/// Writes `pixels` (linear RGB, row 0 at the top) to `path` atomically, a
+/// JPEG at [`JPEG_QUALITY`].
 pub fn write_image(
     path: &Path,
     width: u32,
     height: u32,
     pixels: &[Vec3],
 ) -> Result<(), OutputError> {
+    write_image_at_quality(path, width, height, pixels, JPEG_QUALITY)
+}
+
+/// [`write_image`] with the JPEG quality (1–100) given; other formats
+/// ignore it.
+pub fn write_image_at_quality(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[Vec3],
+    jpeg_quality: u8,
+) -> Result<(), OutputError> {
     let format = Format::from_path(path)?;
-    write_atomically(path, |w| encode(w, format, width, height, pixels)).map_err(|e| {
+    let quality = jpeg_quality.clamp(1, 100);
+    write_atomically(path, |w| encode(w, format, quality, width, height, pixels)).map_err(|e| {
         OutputError::Write {
             path: path.display().to_string(),
             message: e.to_string(),
@@ -107,6 +122,7 @@ fn temp_path(path: &Path) -> PathBuf {
 fn encode(
     w: &mut impl Write,
     format: Format,
+    jpeg_quality: u8,
     width: u32,
     height: u32,
     pixels: &[Vec3],
@@ -127,7 +143,7 @@ fn encode(
         Format::Jpeg => {
             let img = image::RgbImage::from_raw(width, height, srgb().collect())
                 .ok_or("pixel count does not match the size")?;
-            image::codecs::jpeg::JpegEncoder::new_with_quality(w, JPEG_QUALITY)
+            image::codecs::jpeg::JpegEncoder::new_with_quality(w, jpeg_quality)
                 .encode_image(&img)?;
         }
         Format::Ppm => {
@@ -207,6 +223,46 @@ mod tests {
         // about one 8-bit level; chroma subsampling moves a few pixels more.
         assert!(mean <= 2.0, "mean channel error {mean}");
         assert!(worst <= 16, "largest channel error {worst}");
+        std::fs::remove_dir_all(&dir).expect("cleans up");
+    }
+
+    #[test]
+    fn a_lower_jpeg_quality_writes_a_smaller_coarser_file() {
+        let dir = std::env::temp_dir().join(format!("rtlang-jpegq-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let (w, h) = (96u32, 64u32);
+        // A busy pattern, so quantisation shows in both size and error.
+        let pixels: Vec<Vec3> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32, (i / w) as f32);
+                Vec3::new(
+                    (0.7 * x).sin().abs(),
+                    (0.3 * y).cos().abs(),
+                    ((x + y) % 7.0) / 7.0,
+                )
+            })
+            .collect();
+        let written = |q: u8| {
+            let path = dir.join(format!("q{q}.jpg"));
+            write_image_at_quality(&path, w, h, &pixels, q).expect("writes");
+            let back = image::open(&path).expect("decodes").to_rgb8();
+            let error: i64 = back
+                .pixels()
+                .zip(&pixels)
+                .flat_map(|(got, want)| {
+                    let want = want.to_array().map(linear_to_srgb8);
+                    (0..3).map(move |c| (got[c] as i64 - want[c] as i64).abs())
+                })
+                .sum();
+            (std::fs::metadata(&path).expect("exists").len(), error)
+        };
+        let (high, low) = (written(95), written(40));
+        assert!(low.0 < high.0, "sizes at 40 and 95: {} {}", low.0, high.0);
+        assert!(low.1 > high.1, "errors at 40 and 95: {} {}", low.1, high.1);
+        written(JPEG_QUALITY);
+        write_image(&dir.join("default.jpg"), w, h, &pixels).expect("writes");
+        let read = |name: &str| std::fs::read(dir.join(name)).expect("reads");
+        assert_eq!(read("default.jpg"), read(&format!("q{JPEG_QUALITY}.jpg")));
         std::fs::remove_dir_all(&dir).expect("cleans up");
     }
 
