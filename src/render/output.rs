@@ -194,6 +194,20 @@ mod tests {
         std::fs::remove_dir_all(&dir).expect("cleans up");
     }
 
+    /// The absolute difference of every 8-bit channel of the image file at
+    /// `path` from `pixels` encoded as sRGB.
+    fn channel_errors(path: &Path, size: (u32, u32), pixels: &[Vec3]) -> Vec<i32> {
+        let back = image::open(path).expect("decodes").to_rgb8();
+        assert_eq!(back.dimensions(), size);
+        back.pixels()
+            .zip(pixels)
+            .flat_map(|(got, want)| {
+                let want = want.to_array().map(linear_to_srgb8);
+                (0..3).map(move |c| (got[c] as i32 - want[c] as i32).abs())
+            })
+            .collect()
+    }
+
     #[test]
     fn jpeg_round_trips_within_its_quantisation() {
         let dir = std::env::temp_dir().join(format!("rtlang-jpeg-{}", std::process::id()));
@@ -207,16 +221,7 @@ mod tests {
             })
             .collect();
         write_image(&path, w, h, &pixels).expect("writes");
-        let back = image::open(&path).expect("decodes").to_rgb8();
-        assert_eq!(back.dimensions(), (w, h));
-        let errors: Vec<i32> = back
-            .pixels()
-            .zip(&pixels)
-            .flat_map(|(got, want)| {
-                let want = want.to_array().map(linear_to_srgb8);
-                (0..3).map(move |c| (got[c] as i32 - want[c] as i32).abs())
-            })
-            .collect();
+        let errors = channel_errors(&path, (w, h), &pixels);
         let mean = errors.iter().sum::<i32>() as f64 / errors.len() as f64;
         let worst = errors.iter().copied().max().unwrap_or(0);
         // Quality 92 with 4:2:0 chroma: on a smooth ramp the mean error is
@@ -245,15 +250,7 @@ mod tests {
         let written = |q: u8| {
             let path = dir.join(format!("q{q}.jpg"));
             write_image_at_quality(&path, w, h, &pixels, q).expect("writes");
-            let back = image::open(&path).expect("decodes").to_rgb8();
-            let error: i64 = back
-                .pixels()
-                .zip(&pixels)
-                .flat_map(|(got, want)| {
-                    let want = want.to_array().map(linear_to_srgb8);
-                    (0..3).map(move |c| (got[c] as i64 - want[c] as i64).abs())
-                })
-                .sum();
+            let error: i32 = channel_errors(&path, (w, h), &pixels).iter().sum();
             (std::fs::metadata(&path).expect("exists").len(), error)
         };
         let (high, low) = (written(95), written(40));
