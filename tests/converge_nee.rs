@@ -108,18 +108,23 @@ fn compare_options(
     (worst, mean(&path), mean(&nee))
 }
 
+/// Asserts what `compare` or `compare_options` found: every block within 5
+/// standard errors, and the two image means within `tolerance` of the second.
+fn assert_agree(what: &str, (worst, a, b): (f64, f64, f64), tolerance: f64) {
+    assert!(
+        worst < 5.0,
+        "{what}: a block differs by {worst:.2} standard errors (means {a} vs {b})"
+    );
+    assert!(
+        (a - b).abs() < tolerance * b,
+        "{what}: image means {a} vs {b}"
+    );
+}
+
 #[test]
 fn cornell_box_with_and_without_light_sampling_agree() {
     let scene = cornell_box(32, 64);
-    let (worst, path, nee) = compare(&scene);
-    assert!(
-        worst < 5.0,
-        "a block differs by {worst:.2} standard errors (means {path} vs {nee})"
-    );
-    assert!(
-        (path - nee).abs() < 0.02 * nee,
-        "image means {path} vs {nee}"
-    );
+    assert_agree("path vs nee", compare(&scene), 0.02);
 }
 
 /// The 12 × 12 floor at y = 0.
@@ -227,15 +232,7 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
 fn sphere_light_glass_mirror_and_fog_with_and_without_light_sampling_agree() {
     let scene = glass_and_sphere_light(32, 64);
     assert_eq!(tree_lights(&scene).lights().len(), 2);
-    let (worst, path, nee) = compare(&scene);
-    assert!(
-        worst < 5.0,
-        "a block differs by {worst:.2} standard errors (means {path} vs {nee})"
-    );
-    assert!(
-        (path - nee).abs() < 0.03 * nee,
-        "image means {path} vs {nee}"
-    );
+    assert_agree("path vs nee", compare(&scene), 0.03);
 }
 
 #[test]
@@ -259,15 +256,7 @@ fn fuzzy_metal_near_a_small_light_with_and_without_light_sampling_agree() {
         unreachable!("found above");
     };
     scene.materials[white] = Material::Metal { albedo, fuzz: 0.3 };
-    let (worst, path, nee) = compare(&scene);
-    assert!(
-        worst < 5.0,
-        "a block differs by {worst:.2} standard errors (means {path} vs {nee})"
-    );
-    assert!(
-        (path - nee).abs() < 0.03 * nee,
-        "image means {path} vs {nee}"
-    );
+    assert_agree("path vs nee", compare(&scene), 0.03);
 }
 
 #[test]
@@ -386,23 +375,8 @@ fn many_lights_chosen_by_tree_by_power_and_by_path_tracing_agree() {
     let scene = lamp_field(32, 64);
     assert_eq!(tree_lights(&scene).lights().len(), 64);
     let tree = |o: &mut RenderOptions| o.light_selection = LightSelection::Tree;
-    let (worst, power, by_tree) =
-        compare_options(&scene, |o| o.light_selection = LightSelection::Power, tree);
-    assert!(
-        worst < 5.0,
-        "tree vs power: a block differs by {worst:.2} standard errors"
-    );
-    assert!(
-        (power - by_tree).abs() < 0.03 * by_tree,
-        "image means {power} vs {by_tree}"
-    );
-    let (worst, path, by_tree) = compare_options(&scene, |o| o.light_sampling = false, tree);
-    assert!(
-        worst < 5.0,
-        "path vs tree: a block differs by {worst:.2} standard errors"
-    );
-    assert!(
-        (path - by_tree).abs() < 0.05 * by_tree,
-        "image means {path} vs {by_tree}"
-    );
+    let power = |o: &mut RenderOptions| o.light_selection = LightSelection::Power;
+    assert_agree("power vs tree", compare_options(&scene, power, tree), 0.03);
+    let path = |o: &mut RenderOptions| o.light_sampling = false;
+    assert_agree("path vs tree", compare_options(&scene, path, tree), 0.05);
 }

@@ -227,18 +227,7 @@ fn face(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Proble
             return Some((column, word.chars().count(), message, label));
         }
     }
-    if args.len() < 3 {
-        return Some((
-            args.last().map_or(end, |&(c, w)| c + w.chars().count()),
-            1,
-            format!(
-                "a face with {} vertices: a face needs at least 3",
-                args.len()
-            ),
-            "a third vertex is missing",
-        ));
-    }
-    None
+    too_few(args, end, "face", 3, "a third vertex is missing")
 }
 
 /// What is wrong with a polyline `l v1 v2 …` (vertices `v` or `v/vt`;
@@ -254,18 +243,29 @@ fn polyline(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Pr
             return Some((column, width, message, label));
         }
     }
-    if args.len() < 2 {
-        return Some((
+    too_few(args, end, "line", 2, "a second vertex is missing")
+}
+
+/// The problem of a `what` (face or line) with fewer than `least` vertices,
+/// marked just after its last word (or at the line's `end` when it has none).
+fn too_few(
+    args: &[(usize, &str)],
+    end: usize,
+    what: &str,
+    least: usize,
+    label: &'static str,
+) -> Option<Problem> {
+    (args.len() < least).then(|| {
+        (
             args.last().map_or(end, |&(c, w)| c + w.chars().count()),
             1,
             format!(
-                "a line with {} vertices: a line needs at least 2",
+                "a {what} with {} vertices: a {what} needs at least {least}",
                 args.len()
             ),
-            "a second vertex is missing",
-        ));
-    }
-    None
+            label,
+        )
+    })
 }
 
 /// What is wrong with one face vertex `v/vt/vn` given the counts so far.
