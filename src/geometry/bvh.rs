@@ -353,9 +353,12 @@ impl Bvh {
     }
 
     /// Whether `hit(slot, t_max)` is true for some leaf primitive whose box
-    /// the ray enters before `t_max`: an any-hit walk for shadow rays that
-    /// stops visiting primitives at the first hit (the rest of the walk only
-    /// drains the stack, every box now failing against a negative `t_max`).
+    /// the ray enters before `t_max`: the any-hit walk of shadow rays. The
+    /// answer does not depend on the order of the visits, so nothing is
+    /// sorted: a node's leaves are tested as their lanes come, one inner
+    /// child is visited next and the others are pushed, and the walk ends at
+    /// the first hit. With no hit it visits exactly the leaves
+    /// [`Bvh::traverse`] visits (neither narrows `t_max` on a miss).
     #[inline]
     pub fn traverse_any(
         &self,
@@ -363,15 +366,37 @@ impl Bvh {
         t_max: f32,
         mut hit: impl FnMut(usize, f32) -> bool,
     ) -> bool {
-        let mut found = false;
-        self.traverse(ray, t_max, |slot, t| {
-            if found || !hit(slot, t) {
-                return None;
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let box_ray = BoxRay::new(ray);
+        let mut stack = ArrayVec::<u32, STACK>::new();
+        let mut index = 0u32;
+        loop {
+            let node = &self.nodes[index as usize];
+            let (_, mut mask) = node.hit(&box_ray, t_max);
+            let mut next = None;
+            while mask != 0 {
+                let word = node.child[FIRST[mask] as usize];
+                mask &= mask - 1;
+                if word & LEAF == 0 {
+                    if let Some(other) = next.replace(word) {
+                        // A full stack (a degenerate tree) drops the entry.
+                        let _ = stack.try_push(other);
+                    }
+                    continue;
+                }
+                let first = (word & SLOT_MASK) as usize;
+                let count = ((word >> 29) & 3) as usize + 1;
+                if (first..first + count).any(|slot| hit(slot, t_max)) {
+                    return true;
+                }
             }
-            found = true;
-            Some(-1.0)
-        });
-        found
+            match next.or_else(|| stack.pop()) {
+                Some(i) => index = i,
+                None => return false,
+            }
+        }
     }
 }
 
@@ -589,6 +614,81 @@ mod tests {
             Some(-1.0)
         });
         assert_eq!(visits, 1);
+    }
+
+    /// The any-hit walk answers "is there a closest hit" for rays whose
+    /// `t_max` ends just before, at and just after the nearest hit, and with
+    /// no hit it visits the same leaves as the closest-hit walk.
+    #[test]
+    fn any_hit_agrees_with_the_closest_hit_on_random_boxes() {
+        let mut r = numbers(11);
+        let boxes: Vec<Aabb> = (0..700)
+            .map(|_| {
+                let c = Vec3::new(r(), r(), r()) * 20.0;
+                let h = Vec3::new(r(), r(), r()) * 0.6;
+                Aabb::new(c - h, c + h)
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        let (mut hits, mut misses) = (0, 0);
+        for _ in 0..600 {
+            let origin = Vec3::new(r(), r(), r()) * 30.0 - 5.0;
+            let dir = (Vec3::new(r(), r(), r()) * 20.0 - origin).normalize();
+            let ray = Ray::new(origin, dir, 0.0);
+            let inv = dir.recip();
+            // A "primitive" is hit at its box's entry distance, if beyond 0.
+            let entry = |slot: usize| {
+                boxes[order[slot] as usize]
+                    .hit(&ray, inv, 0.0, f32::INFINITY)
+                    .filter(|&t| t > 0.0)
+            };
+            let closest = |t_max: f32| {
+                let mut best = None;
+                bvh.traverse(&ray, t_max, |slot, t_max| {
+                    let t = entry(slot).filter(|&t| t < t_max)?;
+                    best = Some(t);
+                    Some(t)
+                });
+                best
+            };
+            let any = |t_max: f32| {
+                bvh.traverse_any(&ray, t_max, |slot, t_max| {
+                    entry(slot).is_some_and(|t| t < t_max)
+                })
+            };
+            let nearest = closest(f32::INFINITY);
+            let ends = match nearest {
+                Some(t) => vec![t.next_down(), t, t.next_up(), f32::INFINITY],
+                None => vec![f32::INFINITY, 10.0],
+            };
+            for t_max in ends {
+                assert_eq!(any(t_max), closest(t_max).is_some(), "t_max {t_max}");
+            }
+            if let Some(t) = nearest {
+                assert!(!any(t) && any(t.next_up()));
+                hits += 1;
+            } else {
+                let visited = |any_walk: bool| {
+                    let mut seen = Vec::new();
+                    if any_walk {
+                        bvh.traverse_any(&ray, f32::INFINITY, |slot, _| {
+                            seen.push(slot);
+                            false
+                        });
+                    } else {
+                        bvh.traverse(&ray, f32::INFINITY, |slot, _| {
+                            seen.push(slot);
+                            None
+                        });
+                    }
+                    seen.sort_unstable();
+                    seen
+                };
+                assert_eq!(visited(true), visited(false));
+                misses += 1;
+            }
+        }
+        assert!(hits > 100 && misses > 50, "{hits} hits, {misses} misses");
     }
 
     #[test]
