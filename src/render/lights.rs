@@ -307,10 +307,13 @@ impl LightList {
     /// nothing towards `p`.
     pub fn sample(&self, p: Vec3, n: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
         let last = self.prepared.len().checked_sub(1)?;
-        let u = sampler.next_1d();
         let (i, select) = if last == 0 {
+            // One light needs no choice: its number is passed over, so every
+            // later draw is the one it would have been.
+            sampler.skip_1d();
             (0, 1.0)
         } else {
+            let u = sampler.next_1d();
             match self.selection {
                 LightSelection::Power => {
                     let x = f64::from(u) * self.total;
@@ -500,7 +503,7 @@ mod tests {
     use super::*;
     use crate::geometry::Ray;
     use crate::render::scenes::cornell_box;
-    use crate::sampling::SamplerKind;
+    use crate::sampling::{Dim, SamplerKind};
     use crate::scene::object::RectPlane;
     use crate::scene::{Node, Shape};
 
@@ -522,6 +525,35 @@ mod tests {
                 assert!((normal - Vec3::NEG_Y).length() < 1e-6, "{normal}")
             }
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// With one light the choice number is passed over, not drawn: the
+    /// point comes from the light's 2-D slot and every later draw is the
+    /// one it would be had the choice been drawn.
+    #[test]
+    fn one_light_skips_its_choice_and_leaves_later_draws_unchanged() {
+        let scene = cornell_box(16, 1);
+        let list = lights_of(&scene, LightSelection::Power);
+        let LightShape::Parallelogram { corner, edges, .. } = list.lights()[0].shape else {
+            panic!("the Cornell lamp is a parallelogram");
+        };
+        let p = Vec3::new(278.0, 100.0, 278.0);
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            for index in 0..8 {
+                let mut sampler = Sampler::for_sample(kind, 3, 5, 7, index);
+                sampler.start_bounce(1);
+                sampler.begin(Dim::Light);
+                let mut drawn = sampler.clone();
+                let s = list
+                    .sample(p, Vec3::Y, &mut sampler)
+                    .expect("the lamp is above");
+                drawn.next_1d();
+                let Vec2 { x: u1, y: u2 } = drawn.next_2d();
+                assert_eq!(s.target.point, corner + u1 * edges.0 + u2 * edges.1);
+                assert_eq!(sampler.next_2d(), drawn.next_2d(), "{kind:?}");
+                assert_eq!(sampler.next_1d(), drawn.next_1d(), "{kind:?}");
+            }
         }
     }
 

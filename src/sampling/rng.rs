@@ -23,6 +23,10 @@ pub(crate) fn mix(mut z: u64) -> u64 {
 }
 
 impl Rng {
+    /// A stream for a sampler that never draws from it (the Sobol' one):
+    /// no hashing, and a valid (odd) increment.
+    pub const UNUSED: Rng = Rng { state: 0, inc: 1 };
+
     /// The stream of sample `index` of pixel `(x, y)` under `seed`.
     pub fn for_sample(seed: u64, x: u32, y: u32, index: u32) -> Rng {
         let pixel = ((y as u64) << 32) | x as u64;

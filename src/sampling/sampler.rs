@@ -69,7 +69,8 @@ const EXTRA_SLOTS: u32 = 1 << 31;
 #[derive(Clone, Debug)]
 pub struct Sampler {
     kind: SamplerKind,
-    /// The independent stream: every draw of the independent sampler.
+    /// The independent stream: every draw of the independent sampler
+    /// (unseeded for the Sobol' sampler, which never draws from it).
     rng: Rng,
     /// Hash of (seed, pixel): the root of every slot's scramble seeds.
     pixel: u64,
@@ -85,7 +86,10 @@ impl Sampler {
         let pixel = ((y as u64) << 32) | x as u64;
         Sampler {
             kind,
-            rng: Rng::for_sample(seed, x, y, index),
+            rng: match kind {
+                SamplerKind::Independent => Rng::for_sample(seed, x, y, index),
+                SamplerKind::Sobol => Rng::UNUSED,
+            },
             pixel: mix(seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d)),
             reversed_index: index.reverse_bits(),
             bounce: 0,
