@@ -13,6 +13,7 @@
 //! tree (and every image) is the same on every run.
 
 use glam::{DQuat, DVec3};
+use wide::{f64x2, CmpGt, CmpLe, CmpLt};
 
 /// What a light or a set of lights can emit, bounded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,81 +100,62 @@ impl Pair {
     /// bounding sphere's radius), times the best cosine any emitting normal
     /// can make with the direction to `p` and the best cosine at `p`'s
     /// surface. All emitters here are diffuse, so nothing is emitted beyond
-    /// 90° from a normal. Both lanes run every step (no branch per child);
-    /// the special cases are chosen at the end.
+    /// 90° from a normal. Both children are weighed at once in `wide`'s
+    /// `f64x2` (SSE2), whose square roots, divisions and comparisons round
+    /// exactly as scalar ones: every branch of the one-child formula is a
+    /// lane mask and a blend, and the special cases are chosen at the end.
     fn importance(&self, p: DVec3, n: DVec3) -> Lanes {
-        let r2 = self.r2;
-        let to = xyz(|j| lanes(|k| p[j] - self.centre[j][k]));
-        let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
-        let d2 = lanes(|k| dist2[k].max(r2[k]));
-        let dist = lanes(|k| dist2[k].sqrt());
-        let wi = xyz(|j| {
-            lanes(|k| {
-                if dist2[k] > 0.0 {
-                    to[j][k] / dist[k]
-                } else {
-                    DVec3::Z[j]
-                }
-            })
-        });
+        let splat = f64x2::splat;
+        let (zero, one) = (f64x2::ZERO, f64x2::ONE);
+        let r2 = f64x2::from(self.r2);
+        let to = xyz(|j| splat(p[j]) - f64x2::from(self.centre[j]));
+        let dist2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
+        let d2 = dist2.max(r2);
+        let dist = dist2.sqrt();
+        let away = dist2.cmp_gt(zero);
+        let wi = xyz(|j| away.blend(to[j] / dist, splat(DVec3::Z[j])));
         // The angle the bounds subtend from p (everything if p is inside).
-        let sin2 = lanes(|k| r2[k] / dist2[k]);
-        let inside = lanes(|k| dist2[k] <= r2[k]);
-        let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin2[k].sqrt() });
-        let cos_b = lanes(|k| {
-            if inside[k] {
-                -1.0
-            } else {
-                (1.0 - sin2[k]).sqrt()
-            }
-        });
-        let dot = |v: [f64; 3], k: usize| v[0] * wi[0][k] + v[1] * wi[1][k] + v[2] * wi[2][k];
-        let cos_w = lanes(|k| {
-            let c = dot(xyz(|j| self.axis[j][k]), k);
-            if self.two_sided[k] {
-                c.abs()
-            } else {
-                c
-            }
-        });
-        let sin_w = lanes(|k| (1.0 - cos_w[k] * cos_w[k]).max(0.0).sqrt());
-        let x = lanes(|k| {
-            angle_minus(
-                (sin_w[k], cos_w[k]),
-                (self.sin_spread[k], self.cos_spread[k]),
-            )
-        });
-        let cos_p = lanes(|k| angle_minus(x[k], (sin_b[k], cos_b[k])).1);
-        let mut importance = lanes(|k| self.power[k] * cos_p[k] / d2[k]);
+        let sin2 = r2 / dist2;
+        let inside = dist2.cmp_le(r2);
+        let sin_b = inside.blend(zero, sin2.sqrt());
+        let cos_b = inside.blend(-one, (one - sin2).sqrt());
+        let dot = |v: [f64x2; 3]| v[0] * wi[0] + v[1] * wi[1] + v[2] * wi[2];
+        let c = dot(xyz(|j| f64x2::from(self.axis[j])));
+        let two_sided = f64x2::from(
+            self.two_sided
+                .map(|t| if t { f64::from_bits(!0) } else { 0.0 }),
+        );
+        let cos_w = two_sided.blend(c.abs(), c);
+        let sin_w = (one - cos_w * cos_w).max(zero).sqrt();
+        let spread = (f64x2::from(self.sin_spread), f64x2::from(self.cos_spread));
+        let x = angle_minus((sin_w, cos_w), spread);
+        let cos_p = angle_minus(x, (sin_b, cos_b)).1;
+        let mut importance = f64x2::from(self.power) * cos_p / d2;
         if n != DVec3::ZERO {
-            let cos_i = lanes(|k| dot(n.to_array(), k).abs());
-            let sin_i = lanes(|k| (1.0 - cos_i[k] * cos_i[k]).max(0.0).sqrt());
-            importance = lanes(|k| {
-                importance[k] * angle_minus((sin_i[k], cos_i[k]), (sin_b[k], cos_b[k])).1
-            });
+            let cos_i = dot(xyz(|j| splat(n[j]))).abs();
+            let sin_i = (one - cos_i * cos_i).max(zero).sqrt();
+            importance *= angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
         }
-        lanes(|k| {
-            if !(d2[k] > 0.0 && d2[k].is_finite()) {
-                self.power[k]
-            } else if cos_p[k] <= 0.0 {
-                0.0
-            } else {
-                importance[k].max(0.0)
-            }
-        })
+        let usable = d2.cmp_gt(zero) & d2.cmp_lt(splat(f64::INFINITY));
+        let weighed = cos_p.cmp_le(zero).blend(zero, importance.max(zero));
+        usable.blend(weighed, f64x2::from(self.power)).to_array()
     }
 }
 
-/// (sin, cos) of max(0, a − b) for angles in [0, π] given as (sin, cos).
-fn angle_minus((sin_a, cos_a): (f64, f64), (sin_b, cos_b): (f64, f64)) -> (f64, f64) {
-    if cos_a > cos_b {
-        (0.0, 1.0)
-    } else {
-        (
-            (sin_a * cos_b - cos_a * sin_b).clamp(-1.0, 1.0),
-            (cos_a * cos_b + sin_a * sin_b).clamp(-1.0, 1.0),
-        )
-    }
+/// Per lane, (sin, cos) of max(0, a − b) for angles in [0, π] given as
+/// (sin, cos).
+fn angle_minus((sin_a, cos_a): (f64x2, f64x2), (sin_b, cos_b): (f64x2, f64x2)) -> (f64x2, f64x2) {
+    let none = cos_a.cmp_gt(cos_b);
+    let sin = clamp_unit(sin_a * cos_b - cos_a * sin_b);
+    let cos = clamp_unit(cos_a * cos_b + sin_a * sin_b);
+    (none.blend(f64x2::ZERO, sin), none.blend(f64x2::ONE, cos))
+}
+
+/// `f64::clamp(x, -1, 1)` per lane (a NaN stays NaN).
+fn clamp_unit(x: f64x2) -> f64x2 {
+    let one = f64x2::ONE;
+    let x = x.cmp_lt(-one).blend(-one, x);
+    x.cmp_gt(one).blend(one, x)
 }
 
 /// The smallest cone (axis, cos half angle) found by widening `a` to hold
@@ -466,6 +448,142 @@ mod tests {
                 assert_eq!(z.to_bits(), Pair::of([a, a]).importance(p, n)[1].to_bits());
             }
         }
+    }
+
+    /// The one-child-at-a-time formula the lanes of [`Pair::importance`]
+    /// must reproduce bit for bit (the form it had before it was written in
+    /// `f64x2`).
+    fn scalar_importance(pair: &Pair, p: DVec3, n: DVec3) -> Lanes {
+        let this = pair;
+        let r2 = this.r2;
+        let to = xyz(|j| lanes(|k| p[j] - this.centre[j][k]));
+        let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
+        let d2 = lanes(|k| dist2[k].max(r2[k]));
+        let dist = lanes(|k| dist2[k].sqrt());
+        let wi = xyz(|j| {
+            lanes(|k| {
+                if dist2[k] > 0.0 {
+                    to[j][k] / dist[k]
+                } else {
+                    DVec3::Z[j]
+                }
+            })
+        });
+        // The angle the bounds subtend from p (everything if p is inside).
+        let sin2 = lanes(|k| r2[k] / dist2[k]);
+        let inside = lanes(|k| dist2[k] <= r2[k]);
+        let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin2[k].sqrt() });
+        let cos_b = lanes(|k| {
+            if inside[k] {
+                -1.0
+            } else {
+                (1.0 - sin2[k]).sqrt()
+            }
+        });
+        let dot = |v: [f64; 3], k: usize| v[0] * wi[0][k] + v[1] * wi[1][k] + v[2] * wi[2][k];
+        let cos_w = lanes(|k| {
+            let c = dot(xyz(|j| this.axis[j][k]), k);
+            if this.two_sided[k] {
+                c.abs()
+            } else {
+                c
+            }
+        });
+        let sin_w = lanes(|k| (1.0 - cos_w[k] * cos_w[k]).max(0.0).sqrt());
+        let x = lanes(|k| {
+            scalar_angle_minus(
+                (sin_w[k], cos_w[k]),
+                (this.sin_spread[k], this.cos_spread[k]),
+            )
+        });
+        let cos_p = lanes(|k| scalar_angle_minus(x[k], (sin_b[k], cos_b[k])).1);
+        let mut importance = lanes(|k| this.power[k] * cos_p[k] / d2[k]);
+        if n != DVec3::ZERO {
+            let cos_i = lanes(|k| dot(n.to_array(), k).abs());
+            let sin_i = lanes(|k| (1.0 - cos_i[k] * cos_i[k]).max(0.0).sqrt());
+            importance = lanes(|k| {
+                importance[k] * scalar_angle_minus((sin_i[k], cos_i[k]), (sin_b[k], cos_b[k])).1
+            });
+        }
+        lanes(|k| {
+            if !(d2[k] > 0.0 && d2[k].is_finite()) {
+                this.power[k]
+            } else if cos_p[k] <= 0.0 {
+                0.0
+            } else {
+                importance[k].max(0.0)
+            }
+        })
+    }
+
+    /// (sin, cos) of max(0, a − b), one angle pair at a time.
+    fn scalar_angle_minus((sin_a, cos_a): (f64, f64), (sin_b, cos_b): (f64, f64)) -> (f64, f64) {
+        if cos_a > cos_b {
+            (0.0, 1.0)
+        } else {
+            (
+                (sin_a * cos_b - cos_a * sin_b).clamp(-1.0, 1.0),
+                (cos_a * cos_b + sin_a * sin_b).clamp(-1.0, 1.0),
+            )
+        }
+    }
+
+    /// Random pairs of bounds (wide and point-like, one- and two-sided,
+    /// narrow and full cones) seen from random points (inside some bounds,
+    /// on a centre) with random and zero normals.
+    #[test]
+    fn both_lanes_are_the_scalar_formula_bit_for_bit() {
+        let mut state = 0x1234_5678_9abc_def0u64;
+        let mut r = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut v =
+            |r: &mut dyn FnMut() -> f64, s: f64| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * s;
+        let mut checked = [0usize; 3];
+        for round in 0..4000 {
+            let bounds: Vec<LightBounds> = (0..2)
+                .map(|k| {
+                    let c = v(&mut r, 8.0);
+                    let h = if (round + k) % 5 == 0 {
+                        DVec3::ZERO
+                    } else {
+                        v(&mut r, 2.0).abs()
+                    };
+                    LightBounds {
+                        min: c - h,
+                        max: c + h,
+                        power: r() * 10.0,
+                        axis: v(&mut r, 1.0).try_normalize().unwrap_or(DVec3::Y),
+                        cos_spread: [1.0, -1.0, 2.0 * r() - 1.0][(round + k) % 3],
+                        two_sided: r() < 0.3,
+                    }
+                })
+                .collect();
+            let pair = Pair::of([bounds[0], bounds[1]]);
+            let p = match round % 7 {
+                0 => bounds[0].centre(),
+                1 => bounds[1].centre() + 0.1 * v(&mut r, 1.0),
+                _ => v(&mut r, 12.0),
+            };
+            let n = match round % 4 {
+                0 => DVec3::ZERO,
+                _ => v(&mut r, 1.0).try_normalize().unwrap_or(DVec3::X),
+            };
+            let (got, want) = (pair.importance(p, n), scalar_importance(&pair, p, n));
+            for k in 0..2 {
+                assert_eq!(
+                    got[k].to_bits(),
+                    want[k].to_bits(),
+                    "lane {k}, round {round}"
+                );
+                checked[usize::from(want[k] > 0.0) + usize::from(want[k] == pair.power[k])] += 1;
+            }
+        }
+        // Zero, weighed and whole-power (inside the bounds) answers all occur.
+        assert!(checked.iter().all(|&c| c > 100), "{checked:?}");
     }
 
     #[test]
