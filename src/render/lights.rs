@@ -182,10 +182,6 @@ struct Prepared {
     inv_area: f64,
     /// The probability of choosing this light by power.
     power_share: f64,
-    /// The bound of a sampled point's error for a flat light (it depends
-    /// only on the light's world-space data); a sphere's depends on the
-    /// point.
-    flat_error: Vec3,
 }
 
 /// Every sampled light, with the cumulative selection weights and the
@@ -257,7 +253,6 @@ impl LightList {
                 light: *l,
                 inv_area: l.shape.area().recip(),
                 power_share: p / total,
-                flat_error: flat_error(&l.shape),
             })
             .collect();
         let bounds: Vec<LightBounds> = lights
@@ -331,17 +326,13 @@ impl LightList {
             }
         };
         let Prepared {
-            light,
-            inv_area,
-            flat_error: error,
-            ..
+            light, inv_area, ..
         } = &self.prepared[i];
         let select = select as f32;
         let Vec2 { x: u1, y: u2 } = sampler.next_2d();
         // Each arm bounds the error of `x` from the light's world-space
         // data, whose own rounding (the transform applied when the list was
-        // built) is of the same order as the geometry's (a flat light's
-        // bound is worked out once, by `flat_error`).
+        // built) is of the same order as the geometry's.
         let (x, error, n, pdf) = match light.shape {
             LightShape::Sphere { center, radius } => {
                 let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
@@ -357,9 +348,10 @@ impl LightList {
                 normal,
             } => {
                 let x = corner + u1 * edges.0 + u2 * edges.1;
+                let error = gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs());
                 (
                     x,
-                    *error,
+                    error,
                     normal,
                     area_to_solid_angle(*inv_area, p, x, normal)?,
                 )
@@ -367,9 +359,10 @@ impl LightList {
             LightShape::Triangle { v, normal } => {
                 let s = u1.sqrt();
                 let x = (1.0 - s) * v[0] + s * (1.0 - u2) * v[1] + s * u2 * v[2];
+                let error = gamma(10) * (v[0].abs() + v[1].abs() + v[2].abs());
                 (
                     x,
-                    *error,
+                    error,
                     normal,
                     area_to_solid_angle(*inv_area, p, x, normal)?,
                 )
@@ -418,18 +411,6 @@ impl LightList {
             }
             _ => area_to_solid_angle(select * l.inv_area, p, x, n).unwrap_or(0.0),
         })
-    }
-}
-
-/// The error bound of a point sampled on a flat light, from its
-/// world-space data (zero for a sphere, whose bound depends on the point).
-fn flat_error(shape: &LightShape) -> Vec3 {
-    match *shape {
-        LightShape::Parallelogram { corner, edges, .. } => {
-            gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs())
-        }
-        LightShape::Triangle { v, .. } => gamma(10) * (v[0].abs() + v[1].abs() + v[2].abs()),
-        LightShape::Sphere { .. } => Vec3::ZERO,
     }
 }
 
