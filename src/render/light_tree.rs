@@ -540,7 +540,7 @@ mod tests {
                 .wrapping_add(1_442_695_040_888_963_407);
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
-        let mut v =
+        let v =
             |r: &mut dyn FnMut() -> f64, s: f64| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * s;
         let mut checked = [0usize; 3];
         for round in 0..4000 {
