@@ -289,8 +289,8 @@ impl Bvh {
     /// Visits, nearest first as far as the tree tells, every leaf primitive
     /// whose box the ray enters before `t_max`. `visit(slot, t_max)` returns
     /// a new, closer `t_max` when it found a hit; a returned `t_max` below
-    /// zero (below any `t_min`) ends the traversal at once, which is how an
-    /// any-hit query stops at its first hit.
+    /// zero (below any `t_min`) ends the traversal at once. Shadow rays use
+    /// [`Bvh::traverse_any`] instead.
     #[inline]
     pub fn traverse(
         &self,
