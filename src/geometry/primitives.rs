@@ -1,9 +1,10 @@
 //! Many analytic primitives (spheres, turned spheres, rects, parallelograms,
 //! boxes, triangles) with their materials and light ids in flat arrays under
-//! one BVH.
+//! one BVH. A walk tests candidates for their [`Crossing`] only and builds
+//! the surface data of the nearest one.
 
 use super::emitter::LightId;
-use super::shapes::{Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
+use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
 
@@ -30,15 +31,37 @@ impl Primitive {
         }
     }
 
+    /// The nearest hit with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(ray, &c))
+    }
+
+    /// The nearest crossing with `t` in `(t_min, t_max)`, without its
+    /// surface data.
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         match self {
-            Primitive::Sphere(s) => s.intersect(ray, t_min, t_max),
-            Primitive::TurnedSphere(s) => s.intersect(ray, t_min, t_max),
-            Primitive::Rect(r) => r.intersect(ray, t_min, t_max),
-            Primitive::Quad(q) => q.intersect(ray, t_min, t_max),
-            Primitive::Cuboid(c) => c.intersect(ray, t_min, t_max),
-            Primitive::Triangle(t) => t.intersect(ray, t_min, t_max),
+            Primitive::Sphere(s) => s.crossing(ray, t_min, t_max),
+            Primitive::TurnedSphere(s) => s.sphere.crossing(ray, t_min, t_max),
+            Primitive::Rect(r) => r.crossing(ray, t_min, t_max),
+            Primitive::Quad(q) => q.crossing(ray, t_min, t_max),
+            Primitive::Cuboid(c) => c.crossing(ray, t_min, t_max),
+            Primitive::Triangle(t) => t.crossing(ray, t_min, t_max),
+        }
+    }
+
+    /// The hit at a crossing this primitive gave for `ray`.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        match self {
+            Primitive::Sphere(s) => s.surface(ray, c),
+            Primitive::TurnedSphere(s) => s.surface(ray, c),
+            Primitive::Rect(r) => r.surface(ray, c),
+            Primitive::Quad(q) => q.surface(c),
+            Primitive::Cuboid(b) => b.surface(ray, c),
+            Primitive::Triangle(t) => t.surface(c),
         }
     }
 }
@@ -87,11 +110,12 @@ impl PrimitiveSet {
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let mut best = None;
         self.bvh.traverse(ray, t_max, |slot, t_max| {
-            let h = self.prims[slot].intersect(ray, t_min, t_max)?;
-            best = Some((h, slot));
-            Some(h.t)
+            let c = self.prims[slot].crossing(ray, t_min, t_max)?;
+            best = Some((c, slot));
+            Some(c.t)
         });
-        let (h, slot) = best?;
+        let (c, slot) = best?;
+        let h = self.prims[slot].surface(ray, &c);
         let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
         Some((h, self.materials[slot], light))
     }
@@ -100,7 +124,7 @@ impl PrimitiveSet {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         self.bvh.traverse_any(ray, t_max, |slot, t_max| {
-            self.prims[slot].intersect(ray, t_min, t_max).is_some()
+            self.prims[slot].crossing(ray, t_min, t_max).is_some()
         })
     }
 

@@ -5,7 +5,7 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::ShapeHit;
+use super::{Crossing, ShapeHit};
 use crate::geometry::hit::SurfaceUv;
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
@@ -40,6 +40,15 @@ impl Sphere {
     /// (a few ε of `|f|²|D|²`, bounded by the margin below) the line misses.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(ray, &c))
+    }
+
+    /// The nearest crossing with `t` in `(t_min, t_max)` (see
+    /// [`Sphere::intersect`]); its data holds the distance along the unit
+    /// direction.
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         let f = ray.origin - self.center;
         let dd = ray.dir.length_squared();
         let r = self.radius;
@@ -72,6 +81,18 @@ impl Sphere {
         } else {
             return None;
         };
+        Some(Crossing {
+            t: t / len,
+            data: Vec3::new(t, 0.0, 0.0),
+        })
+    }
+
+    /// The hit at crossing `c` of `ray`, as [`Sphere::intersect`] has it.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        let len = ray.dir.length_squared().sqrt();
+        let d = ray.dir / len;
+        let (t, r) = (c.data.x, self.radius);
         // Reproject the point onto the sphere: its error is then a few
         // roundings of the radius and of the final sum (pbrt-v4).
         // A negative radius turns the normal inwards (a hollow bubble).
@@ -80,13 +101,13 @@ impl Sphere {
         let rel = outward * r.abs();
         let point = self.center + rel;
         let normal = outward * r.signum();
-        Some(ShapeHit {
-            t: t / len,
+        ShapeHit {
+            t: c.t,
             point,
             error: gamma(6) * rel.abs() + gamma(1) * point.abs(),
             normal,
             uv: SurfaceUv::Sphere(normal),
-        })
+        }
     }
 }
 
