@@ -286,6 +286,15 @@ impl Bvh {
         me as u32
     }
 
+    /// The leaves as `(first slot, count)`, each once, in no set order.
+    pub fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .filter(|&word| word & LEAF != 0)
+            .map(leaf_range)
+    }
+
     /// Visits, nearest first as far as the tree tells, every leaf primitive
     /// whose box the ray enters before `t_max`. `visit(slot, t_max)` returns
     /// a new, closer `t_max` when it found a hit; a returned `t_max` below
@@ -295,8 +304,32 @@ impl Bvh {
     pub fn traverse(
         &self,
         ray: &Ray,
-        mut t_max: f32,
+        t_max: f32,
         mut visit: impl FnMut(usize, f32) -> Option<f32>,
+    ) {
+        self.traverse_leaves(ray, t_max, |first, count, mut t_max| {
+            let mut found = None;
+            for slot in first..first + count {
+                if let Some(t) = visit(slot, t_max) {
+                    (t_max, found) = (t, Some(t));
+                    if t < 0.0 {
+                        break;
+                    }
+                }
+            }
+            found
+        });
+    }
+
+    /// [`Bvh::traverse`] a leaf at a time: `visit(first, count, t_max)`
+    /// tests the leaf's slots `first..first + count` (in slot order, so ties
+    /// go as they do slot by slot) and returns the closer `t_max` it found.
+    #[inline]
+    pub fn traverse_leaves(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut visit: impl FnMut(usize, usize, f32) -> Option<f32>,
     ) {
         if self.nodes.is_empty() {
             return;
@@ -324,14 +357,11 @@ impl Bvh {
                 if word & LEAF == 0 || d > t_max {
                     continue;
                 }
-                let first = (word & SLOT_MASK) as usize;
-                let count = ((word >> 29) & 3) as usize + 1;
-                for slot in first..first + count {
-                    if let Some(t) = visit(slot, t_max) {
-                        t_max = t;
-                        if t_max < 0.0 {
-                            return;
-                        }
+                let (first, count) = leaf_range(word);
+                if let Some(t) = visit(first, count, t_max) {
+                    t_max = t;
+                    if t_max < 0.0 {
+                        return;
                     }
                 }
             }
@@ -373,6 +403,12 @@ impl Bvh {
         });
         found
     }
+}
+
+/// A leaf word's first slot and primitive count.
+#[inline(always)]
+fn leaf_range(word: u32) -> (usize, usize) {
+    ((word & SLOT_MASK) as usize, ((word >> 29) & 3) as usize + 1)
 }
 
 /// Appends the binary subtree over `items` (whose first primitive slot is

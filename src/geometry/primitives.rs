@@ -5,6 +5,7 @@
 
 use super::emitter::LightId;
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
+use super::leaf::{slots, Packs, SphereLeaf};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
 
@@ -28,6 +29,15 @@ impl Primitive {
             Primitive::Quad(q) => q.bounds(),
             Primitive::Cuboid(c) => c.bounds(),
             Primitive::Triangle(t) => t.bounds(),
+        }
+    }
+
+    /// The sphere a (turned) sphere is intersected as.
+    fn sphere(&self) -> Option<Sphere> {
+        match self {
+            Primitive::Sphere(s) => Some(*s),
+            Primitive::TurnedSphere(s) => Some(s.sphere),
+            _ => None,
         }
     }
 
@@ -74,13 +84,15 @@ pub struct PrimitiveSet {
     /// Empty when no primitive emits.
     lights: Vec<LightId>,
     bvh: Bvh,
+    /// The leaves of two or more spheres, packed for a four-lane test.
+    spheres: Packs<SphereLeaf>,
 }
 
 impl PrimitiveSet {
     pub fn new(items: Vec<(Primitive, MaterialId, LightId)>) -> PrimitiveSet {
         let bounds: Vec<Aabb> = items.iter().map(|(p, _, _)| p.bounds()).collect();
         let (bvh, order) = Bvh::build(&bounds);
-        let (prims, materials) = order
+        let (prims, materials): (Vec<Primitive>, Vec<MaterialId>) = order
             .iter()
             .map(|&i| (items[i as usize].0, items[i as usize].1))
             .unzip();
@@ -88,11 +100,20 @@ impl PrimitiveSet {
         if lights.iter().all(|l| *l == LightId::NONE) {
             lights = Vec::new();
         }
+        let spheres = Packs::new(&bvh, prims.len(), |first, count| {
+            let leaf: Option<Vec<Sphere>> = prims[first..first + count]
+                .iter()
+                .map(Primitive::sphere)
+                .collect();
+            leaf.filter(|l| l.len() > 1)
+                .map(|l: Vec<Sphere>| SphereLeaf::new(&l))
+        });
         PrimitiveSet {
             prims,
             materials,
             lights,
             bvh,
+            spheres,
         }
     }
 
@@ -109,10 +130,19 @@ impl PrimitiveSet {
         t_max: f32,
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let mut best = None;
-        self.bvh.traverse(ray, t_max, |slot, t_max| {
-            let c = self.prims[slot].crossing(ray, t_min, t_max)?;
-            best = Some((c, slot));
-            Some(c.t)
+        self.bvh.traverse_leaves(ray, t_max, |first, count, mut t_max| {
+            let mut found = None;
+            let mut test = |slot: usize| {
+                if let Some(c) = self.prims[slot].crossing(ray, t_min, t_max) {
+                    best = Some((c, slot));
+                    (t_max, found) = (c.t, Some(c.t));
+                }
+            };
+            match self.spheres.get(first) {
+                Some(leaf) => slots(first, leaf.candidates(ray)).for_each(&mut test),
+                None => (first..first + count).for_each(&mut test),
+            }
+            found
         });
         let (c, slot) = best?;
         let h = self.prims[slot].surface(ray, &c);

@@ -12,7 +12,7 @@ use crate::geometry::{Aabb, Ray};
 
 /// Relative margin of the early miss test, far above its rounding error
 /// (about 12 ε ≈ 1.4e-6 of `|f|²|D|²`).
-const MISS_MARGIN: f32 = 1e-5;
+pub const MISS_MARGIN: f32 = 1e-5;
 
 /// A sphere by centre and radius (> 0).
 #[derive(Clone, Copy, Debug, PartialEq)]

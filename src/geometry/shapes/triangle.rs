@@ -29,8 +29,8 @@ pub struct Triangle {
 /// the permutation.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    origin: Vec3,
-    rows: [Vec3; 3],
+    pub origin: Vec3,
+    pub rows: [Vec3; 3],
 }
 
 /// Where a ray crosses a triangle: distance and barycentric weights of the
