@@ -41,6 +41,17 @@ const SLOT_MASK: u32 = (1 << 29) - 1;
 /// traversal, Ize 2013), so rays grazing a box edge are not lost.
 const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
 
+/// How the primitives of a leaf are tested, which sets what a leaf costs
+/// the surface-area heuristic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Leaves {
+    /// One by one: a leaf costs one test per primitive.
+    Scalar,
+    /// Four at once ([`crate::geometry::leaf`]): a leaf of up to four costs
+    /// about one test, so leaves come out full.
+    Packed,
+}
+
 /// One node of the binary tree the builder makes: its box, and either two
 /// children (`count == 0`: the left child follows this node, the right one
 /// is at `offset`) or a leaf of `count` primitives starting at `offset`.
@@ -207,6 +218,11 @@ impl Bvh {
     /// the permutation to apply to the primitives: leaf slot `i` holds the
     /// primitive that was at `order[i]`.
     pub fn build(bounds: &[Aabb]) -> (Bvh, Vec<u32>) {
+        Bvh::build_leaves(bounds, Leaves::Scalar)
+    }
+
+    /// [`Bvh::build`] for primitives whose leaves are tested as `leaves` says.
+    pub fn build_leaves(bounds: &[Aabb], leaves: Leaves) -> (Bvh, Vec<u32>) {
         let mut items: Vec<BuildItem> = bounds
             .iter()
             .enumerate()
@@ -220,7 +236,7 @@ impl Bvh {
             return (Bvh::default(), Vec::new());
         }
         let mut binary = Vec::with_capacity(2 * items.len());
-        build_node(&mut binary, &mut items, 0);
+        build_node(&mut binary, &mut items, 0, leaves);
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 3 + 1),
             bounds: binary[0].bounds,
@@ -413,7 +429,7 @@ fn leaf_range(word: u32) -> (usize, usize) {
 
 /// Appends the binary subtree over `items` (whose first primitive slot is
 /// `first`) to `nodes`, depth first, left child right after its parent.
-fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize) {
+fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize, leaves: Leaves) {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(&it.bounds));
     let leaf = |nodes: &mut Vec<BinaryNode>| {
         nodes.push(BinaryNode {
@@ -428,7 +444,10 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
     }
     let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let split = best_split(items, &centroids);
-    let leaf_cost = items.len() as f32;
+    let leaf_cost = match leaves {
+        Leaves::Scalar => items.len() as f32,
+        Leaves::Packed => 1.0,
+    };
     if items.len() <= MAX_LEAF && split.is_none_or(|(_, _, cost)| cost >= leaf_cost) {
         leaf(nodes);
         return;
@@ -452,9 +471,9 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
         count: 0,
     });
     let (left, right) = items.split_at_mut(mid);
-    build_node(nodes, left, first);
+    build_node(nodes, left, first, leaves);
     nodes[me].offset = nodes.len() as u32;
-    build_node(nodes, right, first + mid);
+    build_node(nodes, right, first + mid, leaves);
 }
 
 fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {

@@ -6,9 +6,10 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::leaf::{slots, Packs, TriangleLeaf};
+use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::{Aabb, Bvh, Ray};
 use crate::scene::{MaterialId, MeshData};
@@ -51,7 +52,7 @@ impl MeshGeometry {
                 Aabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let (bvh, order) = Bvh::build(&bounds);
+        let (bvh, order) = Bvh::build_leaves(&bounds, Leaves::Packed);
         let slot_triangles: Vec<[u32; 3]> =
             order.iter().map(|&t| data.triangles[t as usize]).collect();
         let leaves = Packs::new(&bvh, slot_triangles.len(), |first, count| {
@@ -109,21 +110,22 @@ impl MeshGeometry {
         let sheared = ShearedRay::new(ray);
         let pos = &self.data.positions;
         let mut best = None;
-        self.bvh.traverse_leaves(ray, t_max, |first, count, mut t_max| {
-            let mut found = None;
-            let mut test = |slot: usize| {
-                let idx = self.slot_triangles[slot];
-                if let Some(h) = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max) {
-                    best = Some((slot, h));
-                    (t_max, found) = (h.t, Some(h.t));
+        self.bvh
+            .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+                let mut found = None;
+                let mut test = |slot: usize| {
+                    let idx = self.slot_triangles[slot];
+                    if let Some(h) = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max) {
+                        best = Some((slot, h));
+                        (t_max, found) = (h.t, Some(h.t));
+                    }
+                };
+                match self.leaves.get(first) {
+                    Some(leaf) => slots(first, leaf.candidates(&sheared)).for_each(&mut test),
+                    None => (first..first + count).for_each(&mut test),
                 }
-            };
-            match self.leaves.get(first) {
-                Some(leaf) => slots(first, leaf.candidates(&sheared)).for_each(&mut test),
-                None => (first..first + count).for_each(&mut test),
-            }
-            found
-        });
+                found
+            });
         let (slot, h) = best?;
         let tri = self.order[slot];
         let idx = self.slot_triangles[slot].map(|i| i as usize);

@@ -3,9 +3,10 @@
 //! one BVH. A walk tests candidates for their [`Crossing`] only and builds
 //! the surface data of the nearest one.
 
+use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::leaf::{slots, Packs, SphereLeaf};
+use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
 
@@ -91,7 +92,14 @@ pub struct PrimitiveSet {
 impl PrimitiveSet {
     pub fn new(items: Vec<(Primitive, MaterialId, LightId)>) -> PrimitiveSet {
         let bounds: Vec<Aabb> = items.iter().map(|(p, _, _)| p.bounds()).collect();
-        let (bvh, order) = Bvh::build(&bounds);
+        // Sets of spheres only get full leaves, packed; others keep the
+        // scalar tree (whose leaf order decides ties between coplanar faces).
+        let leaves = if items.iter().all(|(p, _, _)| p.sphere().is_some()) {
+            Leaves::Packed
+        } else {
+            Leaves::Scalar
+        };
+        let (bvh, order) = Bvh::build_leaves(&bounds, leaves);
         let (prims, materials): (Vec<Primitive>, Vec<MaterialId>) = order
             .iter()
             .map(|&i| (items[i as usize].0, items[i as usize].1))
@@ -130,20 +138,21 @@ impl PrimitiveSet {
         t_max: f32,
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let mut best = None;
-        self.bvh.traverse_leaves(ray, t_max, |first, count, mut t_max| {
-            let mut found = None;
-            let mut test = |slot: usize| {
-                if let Some(c) = self.prims[slot].crossing(ray, t_min, t_max) {
-                    best = Some((c, slot));
-                    (t_max, found) = (c.t, Some(c.t));
+        self.bvh
+            .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+                let mut found = None;
+                let mut test = |slot: usize| {
+                    if let Some(c) = self.prims[slot].crossing(ray, t_min, t_max) {
+                        best = Some((c, slot));
+                        (t_max, found) = (c.t, Some(c.t));
+                    }
+                };
+                match self.spheres.get(first) {
+                    Some(leaf) => slots(first, leaf.candidates(ray)).for_each(&mut test),
+                    None => (first..first + count).for_each(&mut test),
                 }
-            };
-            match self.spheres.get(first) {
-                Some(leaf) => slots(first, leaf.candidates(ray)).for_each(&mut test),
-                None => (first..first + count).for_each(&mut test),
-            }
-            found
-        });
+                found
+            });
         let (c, slot) = best?;
         let h = self.prims[slot].surface(ray, &c);
         let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
