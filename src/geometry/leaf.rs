@@ -19,7 +19,8 @@ use super::{Bvh, Ray};
 pub const LANES: usize = 4;
 
 /// The lane mask of the first `count` lanes.
-fn lanes(count: usize) -> u32 {
+#[inline]
+pub fn all_lanes(count: usize) -> u32 {
     (1u32 << count.min(LANES)) - 1
 }
 
@@ -109,7 +110,7 @@ impl SphereLeaf {
         SphereLeaf {
             center: [c[0], c[1], c[2]].map(f32x4::from),
             radius: f32x4::from(c[3]),
-            used: lanes(spheres.len()),
+            used: all_lanes(spheres.len()),
         }
     }
 
@@ -153,7 +154,7 @@ impl TriangleLeaf {
         }
         TriangleLeaf {
             v: v.map(|p| p.map(f32x4::from)),
-            used: lanes(triangles.len()),
+            used: all_lanes(triangles.len()),
         }
     }
 

@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::leaf::{slots, Packs, TriangleLeaf};
+use super::leaf::{all_lanes, slots, Packs, TriangleLeaf};
 use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::{Aabb, Bvh, Ray};
@@ -113,16 +113,16 @@ impl MeshGeometry {
         self.bvh
             .traverse_leaves(ray, t_max, |first, count, mut t_max| {
                 let mut found = None;
-                let mut test = |slot: usize| {
+                let lanes = self
+                    .leaves
+                    .get(first)
+                    .map_or(all_lanes(count), |leaf| leaf.candidates(&sheared));
+                for slot in slots(first, lanes) {
                     let idx = self.slot_triangles[slot];
                     if let Some(h) = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max) {
                         best = Some((slot, h));
                         (t_max, found) = (h.t, Some(h.t));
                     }
-                };
-                match self.leaves.get(first) {
-                    Some(leaf) => slots(first, leaf.candidates(&sheared)).for_each(&mut test),
-                    None => (first..first + count).for_each(&mut test),
                 }
                 found
             });

@@ -5,7 +5,7 @@
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::leaf::{slots, Packs, SphereLeaf};
+use super::leaf::{all_lanes, slots, Packs, SphereLeaf};
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
@@ -45,8 +45,14 @@ impl Primitive {
     /// The nearest hit with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
-        let c = self.crossing(ray, t_min, t_max)?;
-        Some(self.surface(ray, &c))
+        match self {
+            Primitive::Sphere(s) => s.intersect(ray, t_min, t_max),
+            Primitive::TurnedSphere(s) => s.intersect(ray, t_min, t_max),
+            Primitive::Rect(r) => r.intersect(ray, t_min, t_max),
+            Primitive::Quad(q) => q.intersect(ray, t_min, t_max),
+            Primitive::Cuboid(c) => c.intersect(ray, t_min, t_max),
+            Primitive::Triangle(t) => t.intersect(ray, t_min, t_max),
+        }
     }
 
     /// The nearest crossing with `t` in `(t_min, t_max)`, without its
@@ -60,6 +66,17 @@ impl Primitive {
             Primitive::Quad(q) => q.crossing(ray, t_min, t_max),
             Primitive::Cuboid(c) => c.crossing(ray, t_min, t_max),
             Primitive::Triangle(t) => t.crossing(ray, t_min, t_max),
+        }
+    }
+
+    /// [`Primitive::crossing`] of a (turned) sphere whose early miss test
+    /// a four-lane leaf test passed ([`Sphere::crossing_kept`]).
+    #[inline]
+    fn sphere_crossing_kept(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        match self {
+            Primitive::Sphere(s) => s.crossing_kept(ray, t_min, t_max),
+            Primitive::TurnedSphere(s) => s.sphere.crossing_kept(ray, t_min, t_max),
+            _ => self.crossing(ray, t_min, t_max),
         }
     }
 
@@ -141,15 +158,18 @@ impl PrimitiveSet {
         self.bvh
             .traverse_leaves(ray, t_max, |first, count, mut t_max| {
                 let mut found = None;
-                let mut test = |slot: usize| {
-                    if let Some(c) = self.prims[slot].crossing(ray, t_min, t_max) {
+                let packed = self.spheres.get(first);
+                let lanes = packed.map_or(all_lanes(count), |leaf| leaf.candidates(ray));
+                for slot in slots(first, lanes) {
+                    let p = &self.prims[slot];
+                    let c = match packed {
+                        Some(_) => p.sphere_crossing_kept(ray, t_min, t_max),
+                        None => p.crossing(ray, t_min, t_max),
+                    };
+                    if let Some(c) = c {
                         best = Some((c, slot));
                         (t_max, found) = (c.t, Some(c.t));
                     }
-                };
-                match self.spheres.get(first) {
-                    Some(leaf) => slots(first, leaf.candidates(ray)).for_each(&mut test),
-                    None => (first..first + count).for_each(&mut test),
                 }
                 found
             });

@@ -44,7 +44,8 @@ pub struct ShapeHit {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Crossing {
     pub t: f32,
-    /// Shape-specific: a sphere's distance along the unit direction, a
+    /// Shape-specific: a sphere's distance along the unit direction and
+    /// the direction's length, a
     /// quad's `(u, v)`, a triangle's barycentrics, a box's face axis and side.
     pub data: Vec3,
 }
