@@ -12,7 +12,9 @@
 //! `ArrayVec` that is not zero-filled per ray.
 //!
 //! The hierarchy knows only boxes: the caller reorders its primitives by the
-//! permutation [`Bvh::build`] returns and intersects them in a visitor closure.
+//! permutation [`Bvh::build`] returns and intersects them in a visitor closure,
+//! a slot or a leaf at a time; it tells the builder whether its leaves are
+//! tested one primitive at a time or four at once ([`Leaves`]).
 
 use arrayvec::ArrayVec;
 use glam::Vec3;

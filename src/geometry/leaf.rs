@@ -359,7 +359,10 @@ mod tests {
                 edge_hits += usize::from(scalar.is_some() && k % 4 != 0);
             }
         }
-        assert!(hits > 8000 && edge_hits > 5000, "{hits} hits, {edge_hits} on edges");
+        assert!(
+            hits > 8000 && edge_hits > 5000,
+            "{hits} hits, {edge_hits} on edges"
+        );
     }
 
     /// The nearest hit of every primitive, slot order breaking ties, by
@@ -432,6 +435,9 @@ mod tests {
                 mesh_hits += 1;
             }
         }
-        assert!(sphere_hits > 500 && mesh_hits > 500, "{sphere_hits}, {mesh_hits}");
+        assert!(
+            sphere_hits > 500 && mesh_hits > 500,
+            "{sphere_hits}, {mesh_hits}"
+        );
     }
 }

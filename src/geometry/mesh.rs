@@ -1,6 +1,7 @@
 //! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus a
 //! leaf-order permutation of triangle indices and the triangles' vertex
-//! indices in leaf order (4 + 12 bytes per triangle).
+//! indices in leaf order (4 + 12 bytes per triangle), and each leaf's
+//! vertices packed for a four-lane coverage test ([`super::leaf`]).
 
 use std::sync::Arc;
 

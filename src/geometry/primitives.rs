@@ -5,7 +5,7 @@
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::leaf::{all_lanes, slots, Packs, SphereLeaf};
+use super::leaf::{slots, Packs, SphereLeaf};
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
@@ -158,17 +158,21 @@ impl PrimitiveSet {
         self.bvh
             .traverse_leaves(ray, t_max, |first, count, mut t_max| {
                 let mut found = None;
-                let packed = self.spheres.get(first);
-                let lanes = packed.map_or(all_lanes(count), |leaf| leaf.candidates(ray));
-                for slot in slots(first, lanes) {
-                    let p = &self.prims[slot];
-                    let c = match packed {
-                        Some(_) => p.sphere_crossing_kept(ray, t_min, t_max),
-                        None => p.crossing(ray, t_min, t_max),
-                    };
-                    if let Some(c) = c {
-                        best = Some((c, slot));
-                        (t_max, found) = (c.t, Some(c.t));
+                let mut keep = |slot: usize, c: Crossing, t_max: &mut f32| {
+                    best = Some((c, slot));
+                    (*t_max, found) = (c.t, Some(c.t));
+                };
+                if let Some(leaf) = self.spheres.get(first) {
+                    for slot in slots(first, leaf.candidates(ray)) {
+                        if let Some(c) = self.prims[slot].sphere_crossing_kept(ray, t_min, t_max) {
+                            keep(slot, c, &mut t_max);
+                        }
+                    }
+                } else {
+                    for slot in first..first + count {
+                        if let Some(c) = self.prims[slot].crossing(ray, t_min, t_max) {
+                            keep(slot, c, &mut t_max);
+                        }
                     }
                 }
                 found
