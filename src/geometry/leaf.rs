@@ -4,8 +4,9 @@
 //! scalar test's own arithmetic, operation for operation and in the same
 //! order (no fused multiply-add, as the scalar code has none), so a lane it
 //! rejects is one the scalar test would reject; the lanes it keeps go
-//! through the scalar test in slot order, which decides the hit exactly as
-//! before, bit for bit, ties included.
+//! through the rest of the scalar test (a sphere's) or all of it (a
+//! triangle's) in slot order, which decides the hit exactly as before, bit
+//! for bit, ties included.
 
 use glam::Vec3;
 use wide::{f32x4, CmpEq, CmpGt, CmpLt};
@@ -102,10 +103,10 @@ impl SphereLeaf {
     pub fn new(spheres: &[Sphere]) -> SphereLeaf {
         let mut c = [[0.0f32; LANES]; 4];
         for (lane, s) in spheres.iter().take(LANES).enumerate() {
-            for axis in 0..3 {
-                c[axis][lane] = s.center[axis];
+            let [x, y, z] = s.center.to_array();
+            for (row, value) in c.iter_mut().zip([x, y, z, s.radius]) {
+                row[lane] = value;
             }
-            c[3][lane] = s.radius;
         }
         SphereLeaf {
             center: [c[0], c[1], c[2]].map(f32x4::from),
