@@ -61,6 +61,10 @@ impl<P> Packs<P> {
                 packs.push(p);
             }
         }
+        if packs.is_empty() {
+            // Nothing to find: no table (4 bytes per slot) either.
+            by_first = Vec::new();
+        }
         Packs { packs, by_first }
     }
 
