@@ -12,7 +12,9 @@
 //! `ArrayVec` that is not zero-filled per ray.
 //!
 //! The hierarchy knows only boxes: the caller reorders its primitives by the
-//! permutation [`Bvh::build`] returns and intersects them in a visitor closure.
+//! permutation [`Bvh::build`] returns and intersects them in a visitor closure,
+//! a slot or a leaf at a time; it tells the builder whether its leaves are
+//! tested one primitive at a time or four at once ([`Leaves`]).
 
 use arrayvec::ArrayVec;
 use glam::Vec3;
@@ -40,6 +42,17 @@ const SLOT_MASK: u32 = (1 << 29) - 1;
 /// The factor absorbing the rounding of the slab distances (robust
 /// traversal, Ize 2013), so rays grazing a box edge are not lost.
 const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
+
+/// How the primitives of a leaf are tested, which sets what a leaf costs
+/// the surface-area heuristic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Leaves {
+    /// One by one: a leaf costs one test per primitive.
+    Scalar,
+    /// Four at once ([`crate::geometry::leaf`]): a leaf of up to four costs
+    /// about one test, so leaves come out full.
+    Packed,
+}
 
 /// One node of the binary tree the builder makes: its box, and either two
 /// children (`count == 0`: the left child follows this node, the right one
@@ -207,6 +220,11 @@ impl Bvh {
     /// the permutation to apply to the primitives: leaf slot `i` holds the
     /// primitive that was at `order[i]`.
     pub fn build(bounds: &[Aabb]) -> (Bvh, Vec<u32>) {
+        Bvh::build_leaves(bounds, Leaves::Scalar)
+    }
+
+    /// [`Bvh::build`] for primitives whose leaves are tested as `leaves` says.
+    pub fn build_leaves(bounds: &[Aabb], leaves: Leaves) -> (Bvh, Vec<u32>) {
         let mut items: Vec<BuildItem> = bounds
             .iter()
             .enumerate()
@@ -220,7 +238,7 @@ impl Bvh {
             return (Bvh::default(), Vec::new());
         }
         let mut binary = Vec::with_capacity(2 * items.len());
-        build_node(&mut binary, &mut items, 0);
+        build_node(&mut binary, &mut items, 0, leaves);
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 3 + 1),
             bounds: binary[0].bounds,
@@ -286,6 +304,15 @@ impl Bvh {
         me as u32
     }
 
+    /// The leaves as `(first slot, count)`, each once, in no set order.
+    pub fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .filter(|&word| word & LEAF != 0)
+            .map(leaf_range)
+    }
+
     /// Visits, nearest first as far as the tree tells, every leaf primitive
     /// whose box the ray enters before `t_max`. `visit(slot, t_max)` returns
     /// a new, closer `t_max` when it found a hit; a returned `t_max` below
@@ -295,8 +322,32 @@ impl Bvh {
     pub fn traverse(
         &self,
         ray: &Ray,
-        mut t_max: f32,
+        t_max: f32,
         mut visit: impl FnMut(usize, f32) -> Option<f32>,
+    ) {
+        self.traverse_leaves(ray, t_max, |first, count, mut t_max| {
+            let mut found = None;
+            for slot in first..first + count {
+                if let Some(t) = visit(slot, t_max) {
+                    (t_max, found) = (t, Some(t));
+                    if t < 0.0 {
+                        break;
+                    }
+                }
+            }
+            found
+        });
+    }
+
+    /// [`Bvh::traverse`] a leaf at a time: `visit(first, count, t_max)`
+    /// tests the leaf's slots `first..first + count` (in slot order, so ties
+    /// go as they do slot by slot) and returns the closer `t_max` it found.
+    #[inline]
+    pub fn traverse_leaves(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut visit: impl FnMut(usize, usize, f32) -> Option<f32>,
     ) {
         if self.nodes.is_empty() {
             return;
@@ -324,14 +375,11 @@ impl Bvh {
                 if word & LEAF == 0 || d > t_max {
                     continue;
                 }
-                let first = (word & SLOT_MASK) as usize;
-                let count = ((word >> 29) & 3) as usize + 1;
-                for slot in first..first + count {
-                    if let Some(t) = visit(slot, t_max) {
-                        t_max = t;
-                        if t_max < 0.0 {
-                            return;
-                        }
+                let (first, count) = leaf_range(word);
+                if let Some(t) = visit(first, count, t_max) {
+                    t_max = t;
+                    if t_max < 0.0 {
+                        return;
                     }
                 }
             }
@@ -400,9 +448,15 @@ impl Bvh {
     }
 }
 
+/// A leaf word's first slot and primitive count.
+#[inline(always)]
+fn leaf_range(word: u32) -> (usize, usize) {
+    ((word & SLOT_MASK) as usize, ((word >> 29) & 3) as usize + 1)
+}
+
 /// Appends the binary subtree over `items` (whose first primitive slot is
 /// `first`) to `nodes`, depth first, left child right after its parent.
-fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize) {
+fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize, leaves: Leaves) {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(&it.bounds));
     let leaf = |nodes: &mut Vec<BinaryNode>| {
         nodes.push(BinaryNode {
@@ -417,7 +471,10 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
     }
     let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let split = best_split(items, &centroids);
-    let leaf_cost = items.len() as f32;
+    let leaf_cost = match leaves {
+        Leaves::Scalar => items.len() as f32,
+        Leaves::Packed => 1.0,
+    };
     if items.len() <= MAX_LEAF && split.is_none_or(|(_, _, cost)| cost >= leaf_cost) {
         leaf(nodes);
         return;
@@ -441,9 +498,9 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
         count: 0,
     });
     let (left, right) = items.split_at_mut(mid);
-    build_node(nodes, left, first);
+    build_node(nodes, left, first, leaves);
     nodes[me].offset = nodes.len() as u32;
-    build_node(nodes, right, first + mid);
+    build_node(nodes, right, first + mid, leaves);
 }
 
 fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {

@@ -1,12 +1,15 @@
 //! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus a
 //! leaf-order permutation of triangle indices and the triangles' vertex
-//! indices in leaf order (4 + 12 bytes per triangle).
+//! indices in leaf order (4 + 12 bytes per triangle), and each leaf's
+//! vertices packed for a four-lane coverage test ([`super::leaf`]).
 
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::bvh::Leaves;
 use super::emitter::LightId;
+use super::leaf::{all_lanes, slots, Packs, TriangleLeaf};
 use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::{Aabb, Bvh, Ray};
@@ -25,6 +28,8 @@ pub struct MeshGeometry {
     /// Light id of each triangle (by index in `data`); empty when none emits.
     lights: Vec<LightId>,
     bvh: Bvh,
+    /// Every leaf's triangles packed for a four-lane coverage test.
+    leaves: Packs<TriangleLeaf>,
 }
 
 /// A mesh hit: the surface hit with the shading normal, the material and
@@ -48,9 +53,18 @@ impl MeshGeometry {
                 Aabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let (bvh, order) = Bvh::build(&bounds);
-        let slot_triangles = order.iter().map(|&t| data.triangles[t as usize]).collect();
+        let (bvh, order) = Bvh::build_leaves(&bounds, Leaves::Packed);
+        let slot_triangles: Vec<[u32; 3]> =
+            order.iter().map(|&t| data.triangles[t as usize]).collect();
+        let leaves = Packs::new(&bvh, slot_triangles.len(), |first, count| {
+            let tris: Vec<[Vec3; 3]> = slot_triangles[first..first + count]
+                .iter()
+                .map(|t| t.map(|i| data.positions[i as usize]))
+                .collect();
+            Some(TriangleLeaf::new(&tris))
+        });
         MeshGeometry {
+            leaves,
             data,
             order,
             slot_triangles,
@@ -75,6 +89,7 @@ impl MeshGeometry {
             + self.order.len() * 4
             + self.slot_triangles.len() * 12
             + self.lights.len() * 4
+            + self.leaves.memory()
     }
 
     /// Whether any triangle is hit with `t` in `(t_min, t_max)`; only the
@@ -96,12 +111,22 @@ impl MeshGeometry {
         let sheared = ShearedRay::new(ray);
         let pos = &self.data.positions;
         let mut best = None;
-        self.bvh.traverse(ray, t_max, |slot, t_max| {
-            let idx = self.slot_triangles[slot];
-            let h = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max)?;
-            best = Some((slot, h));
-            Some(h.t)
-        });
+        self.bvh
+            .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+                let mut found = None;
+                let lanes = self
+                    .leaves
+                    .get(first)
+                    .map_or(all_lanes(count), |leaf| leaf.candidates(&sheared));
+                for slot in slots(first, lanes) {
+                    let idx = self.slot_triangles[slot];
+                    if let Some(h) = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max) {
+                        best = Some((slot, h));
+                        (t_max, found) = (h.t, Some(h.t));
+                    }
+                }
+                found
+            });
         let (slot, h) = best?;
         let tri = self.order[slot];
         let idx = self.slot_triangles[slot].map(|i| i as usize);

@@ -9,6 +9,7 @@ pub mod emitter;
 pub mod group;
 pub mod hit;
 pub mod instance;
+pub mod leaf;
 pub mod medium;
 pub mod mesh;
 pub mod object;

@@ -83,7 +83,7 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         match self {
             Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
-            Geometry::Single(p, _, _) => p.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Single(p, _, _) => p.crossing(ray, t_min, t_max).is_some(),
             Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
             Geometry::Revolution { surface, .. } => surface.intersect(ray, t_min, t_max).is_some(),
             Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),

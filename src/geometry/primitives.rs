@@ -1,9 +1,12 @@
 //! Many analytic primitives (spheres, turned spheres, rects, parallelograms,
 //! boxes, triangles) with their materials and light ids in flat arrays under
-//! one BVH.
+//! one BVH. A walk tests candidates for their [`Crossing`] only and builds
+//! the surface data of the nearest one.
 
+use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::shapes::{Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
+use super::leaf::{slots, Packs, SphereLeaf};
+use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::MaterialId;
 
@@ -30,6 +33,16 @@ impl Primitive {
         }
     }
 
+    /// The sphere a (turned) sphere is intersected as.
+    fn sphere(&self) -> Option<Sphere> {
+        match self {
+            Primitive::Sphere(s) => Some(*s),
+            Primitive::TurnedSphere(s) => Some(s.sphere),
+            _ => None,
+        }
+    }
+
+    /// The nearest hit with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
         match self {
@@ -39,6 +52,44 @@ impl Primitive {
             Primitive::Quad(q) => q.intersect(ray, t_min, t_max),
             Primitive::Cuboid(c) => c.intersect(ray, t_min, t_max),
             Primitive::Triangle(t) => t.intersect(ray, t_min, t_max),
+        }
+    }
+
+    /// The nearest crossing with `t` in `(t_min, t_max)`, without its
+    /// surface data.
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        match self {
+            Primitive::Sphere(s) => s.crossing(ray, t_min, t_max),
+            Primitive::TurnedSphere(s) => s.sphere.crossing(ray, t_min, t_max),
+            Primitive::Rect(r) => r.crossing(ray, t_min, t_max),
+            Primitive::Quad(q) => q.crossing(ray, t_min, t_max),
+            Primitive::Cuboid(c) => c.crossing(ray, t_min, t_max),
+            Primitive::Triangle(t) => t.crossing(ray, t_min, t_max),
+        }
+    }
+
+    /// [`Primitive::crossing`] of a (turned) sphere whose early miss test
+    /// a four-lane leaf test passed ([`Sphere::crossing_kept`]).
+    #[inline]
+    fn sphere_crossing_kept(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        match self {
+            Primitive::Sphere(s) => s.crossing_kept(ray, t_min, t_max),
+            Primitive::TurnedSphere(s) => s.sphere.crossing_kept(ray, t_min, t_max),
+            _ => self.crossing(ray, t_min, t_max),
+        }
+    }
+
+    /// The hit at a crossing this primitive gave for `ray`.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        match self {
+            Primitive::Sphere(s) => s.surface(ray, c),
+            Primitive::TurnedSphere(s) => s.surface(ray, c),
+            Primitive::Rect(r) => r.surface(ray, c),
+            Primitive::Quad(q) => q.surface(c),
+            Primitive::Cuboid(b) => b.surface(ray, c),
+            Primitive::Triangle(t) => t.surface(c),
         }
     }
 }
@@ -51,13 +102,22 @@ pub struct PrimitiveSet {
     /// Empty when no primitive emits.
     lights: Vec<LightId>,
     bvh: Bvh,
+    /// The leaves of two or more spheres, packed for a four-lane test.
+    spheres: Packs<SphereLeaf>,
 }
 
 impl PrimitiveSet {
     pub fn new(items: Vec<(Primitive, MaterialId, LightId)>) -> PrimitiveSet {
         let bounds: Vec<Aabb> = items.iter().map(|(p, _, _)| p.bounds()).collect();
-        let (bvh, order) = Bvh::build(&bounds);
-        let (prims, materials) = order
+        // Sets of spheres only get full leaves, packed; others keep the
+        // scalar tree (whose leaf order decides ties between coplanar faces).
+        let leaves = if items.iter().all(|(p, _, _)| p.sphere().is_some()) {
+            Leaves::Packed
+        } else {
+            Leaves::Scalar
+        };
+        let (bvh, order) = Bvh::build_leaves(&bounds, leaves);
+        let (prims, materials): (Vec<Primitive>, Vec<MaterialId>) = order
             .iter()
             .map(|&i| (items[i as usize].0, items[i as usize].1))
             .unzip();
@@ -65,11 +125,20 @@ impl PrimitiveSet {
         if lights.iter().all(|l| *l == LightId::NONE) {
             lights = Vec::new();
         }
+        let spheres = Packs::new(&bvh, prims.len(), |first, count| {
+            let leaf: Option<Vec<Sphere>> = prims[first..first + count]
+                .iter()
+                .map(Primitive::sphere)
+                .collect();
+            leaf.filter(|l| l.len() > 1)
+                .map(|l: Vec<Sphere>| SphereLeaf::new(&l))
+        });
         PrimitiveSet {
             prims,
             materials,
             lights,
             bvh,
+            spheres,
         }
     }
 
@@ -86,12 +155,30 @@ impl PrimitiveSet {
         t_max: f32,
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let mut best = None;
-        self.bvh.traverse(ray, t_max, |slot, t_max| {
-            let h = self.prims[slot].intersect(ray, t_min, t_max)?;
-            best = Some((h, slot));
-            Some(h.t)
-        });
-        let (h, slot) = best?;
+        self.bvh
+            .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+                let mut found = None;
+                let mut keep = |slot: usize, c: Crossing, t_max: &mut f32| {
+                    best = Some((c, slot));
+                    (*t_max, found) = (c.t, Some(c.t));
+                };
+                if let Some(leaf) = self.spheres.get(first) {
+                    for slot in slots(first, leaf.candidates(ray)) {
+                        if let Some(c) = self.prims[slot].sphere_crossing_kept(ray, t_min, t_max) {
+                            keep(slot, c, &mut t_max);
+                        }
+                    }
+                } else {
+                    for slot in first..first + count {
+                        if let Some(c) = self.prims[slot].crossing(ray, t_min, t_max) {
+                            keep(slot, c, &mut t_max);
+                        }
+                    }
+                }
+                found
+            });
+        let (c, slot) = best?;
+        let h = self.prims[slot].surface(ray, &c);
         let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
         Some((h, self.materials[slot], light))
     }
@@ -100,7 +187,7 @@ impl PrimitiveSet {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         self.bvh.traverse_any(ray, t_max, |slot, t_max| {
-            self.prims[slot].intersect(ray, t_min, t_max).is_some()
+            self.prims[slot].crossing(ray, t_min, t_max).is_some()
         })
     }
 

@@ -3,7 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::ShapeHit;
+use super::{Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
@@ -23,6 +23,14 @@ impl Cuboid {
     /// the entry face from outside, the exit face from inside.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(ray, &c))
+    }
+
+    /// The crossing with `t` in `(t_min, t_max)`; its data holds the face's
+    /// axis and whether it is the `max` side (1) or the `min` side (0).
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         let inv = ray.dir.recip();
         let t0 = (self.min - ray.origin) * inv;
         let t1 = (self.max - ray.origin) * inv;
@@ -46,6 +54,16 @@ impl Cuboid {
         } else {
             return None;
         };
+        Some(Crossing {
+            t,
+            data: Vec3::new(axis as f32, f32::from(u8::from(at_max)), 0.0),
+        })
+    }
+
+    /// The hit at crossing `c` of `ray`, as [`Cuboid::intersect`] has it.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        let (t, axis, at_max) = (c.t, c.data.x as usize, c.data.y > 0.0);
         let mut point = ray.at(t);
         point[axis] = if at_max {
             self.max[axis]
@@ -60,7 +78,7 @@ impl Cuboid {
         // The face coordinate is exact; the others come from `ray.at(t)`.
         let mut error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
         error[axis] = 0.0;
-        Some(ShapeHit {
+        ShapeHit {
             t,
             point,
             error,
@@ -70,7 +88,7 @@ impl Cuboid {
                 (point[j] - self.min[j]) / ext[j],
             )
             .into(),
-        })
+        }
     }
 }
 

@@ -1,6 +1,8 @@
 //! The analytic primitives in their object space: each one knows its bounds
 //! and its nearest intersection with a ray, reported as a [`ShapeHit`] with
-//! the outward normal.
+//! the outward normal, either at once (`intersect`) or in two steps: a
+//! [`Crossing`] per candidate (`crossing`), the surface data for the nearest
+//! one only (`surface`).
 
 pub mod cuboid;
 pub mod plane;
@@ -32,4 +34,18 @@ pub struct ShapeHit {
     /// Unit outward normal.
     pub normal: Vec3,
     pub uv: SurfaceUv,
+}
+
+/// What a shape's test yields while a hierarchy is walked: the distance
+/// that orders the hits, and the few numbers its surface data is computed
+/// from. The full [`ShapeHit`] is built once, for the nearest crossing, by
+/// the shape's `surface` from the same inputs with the same formulas, so it
+/// is the hit the shape's `intersect` returns, bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub t: f32,
+    /// Shape-specific: a sphere's distance along the unit direction and
+    /// the direction's length, a
+    /// quad's `(u, v)`, a triangle's barycentrics, a box's face axis and side.
+    pub data: Vec3,
 }

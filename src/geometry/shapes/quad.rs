@@ -5,7 +5,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::ShapeHit;
+use super::{Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
@@ -75,6 +75,13 @@ impl Quad {
     /// two scaled edges (as pbrt-v4's bilinear patches), not of the ray.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(&c))
+    }
+
+    /// The crossing with `t` in `(t_min, t_max)`; its data holds `(u, v)`.
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         let n = self.normal;
         let denom = n.dot(ray.dir);
         let t = n.dot(self.corner - ray.origin) / denom;
@@ -87,14 +94,24 @@ impl Quad {
         if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
             return None;
         }
-        let (du, dv) = (u * self.edge_u, v * self.edge_v);
-        Some(ShapeHit {
+        Some(Crossing {
             t,
+            data: Vec3::new(u, v, 0.0),
+        })
+    }
+
+    /// The hit at crossing `c`, as [`Quad::intersect`] has it.
+    #[inline]
+    pub fn surface(&self, c: &Crossing) -> ShapeHit {
+        let (u, v) = (c.data.x, c.data.y);
+        let (du, dv) = (u * self.edge_u, v * self.edge_v);
+        ShapeHit {
+            t: c.t,
             point: self.corner + du + dv,
             error: gamma(7) * (self.corner.abs() + du.abs() + dv.abs()),
-            normal: n,
+            normal: self.normal,
             uv: Vec2::new(u, v).into(),
-        })
+        }
     }
 }
 

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::ShapeHit;
+use super::{Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 use crate::scene::object::RectPlane;
@@ -51,6 +51,14 @@ impl Rect {
     /// The hit with `t` in `(t_min, t_max)`; the outward normal is +axis.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(ray, &c))
+    }
+
+    /// The crossing with `t` in `(t_min, t_max)` (no data: the surface is
+    /// rebuilt from `t`).
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         let ax = self.axis as usize;
         let d = ray.dir[ax];
         if d == 0.0 {
@@ -60,12 +68,25 @@ impl Rect {
         if !(t > t_min && t < t_max) {
             return None;
         }
-        let mut point = ray.at(t);
+        let point = ray.at(t);
         let (i, j) = (self.span[0] as usize, self.span[1] as usize);
         let (x, y) = (point[i], point[j]);
         if x < self.a.0 || x > self.a.1 || y < self.b.0 || y > self.b.1 {
             return None;
         }
+        Some(Crossing {
+            t,
+            data: Vec3::ZERO,
+        })
+    }
+
+    /// The hit at crossing `c` of `ray`, as [`Rect::intersect`] has it.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        let (ax, t) = (self.axis as usize, c.t);
+        let mut point = ray.at(t);
+        let (i, j) = (self.span[0] as usize, self.span[1] as usize);
+        let (x, y) = (point[i], point[j]);
         point[ax] = self.k;
         let mut normal = Vec3::ZERO;
         normal[ax] = 1.0;
@@ -73,7 +94,7 @@ impl Rect {
         // `ray.at(t)` with a rounded `t`.
         let mut error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
         error[ax] = 0.0;
-        Some(ShapeHit {
+        ShapeHit {
             t,
             point,
             error,
@@ -83,7 +104,7 @@ impl Rect {
                 (y - self.b.0) / (self.b.1 - self.b.0).max(f32::MIN_POSITIVE),
             )
             .into(),
-        })
+        }
     }
 }
 

@@ -5,14 +5,14 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::ShapeHit;
+use super::{Crossing, ShapeHit};
 use crate::geometry::hit::SurfaceUv;
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
 /// Relative margin of the early miss test, far above its rounding error
 /// (about 12 ε ≈ 1.4e-6 of `|f|²|D|²`).
-const MISS_MARGIN: f32 = 1e-5;
+pub const MISS_MARGIN: f32 = 1e-5;
 
 /// A sphere by centre and radius (> 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -40,12 +40,31 @@ impl Sphere {
     /// (a few ε of `|f|²|D|²`, bounded by the margin below) the line misses.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(ray, &c))
+    }
+
+    /// The nearest crossing with `t` in `(t_min, t_max)` (see
+    /// [`Sphere::intersect`]); its data holds the distance along the unit
+    /// direction and the length of the ray's direction.
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         let f = ray.origin - self.center;
         let dd = ray.dir.length_squared();
         let r = self.radius;
         if f.cross(ray.dir).length_squared() > (r * r + MISS_MARGIN * f.length_squared()) * dd {
             return None;
         }
+        self.crossing_kept(ray, t_min, t_max)
+    }
+
+    /// [`Sphere::crossing`] for a ray whose line its early miss test kept
+    /// (as a four-lane leaf test did): the rest of the test.
+    #[inline]
+    pub fn crossing_kept(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        let f = ray.origin - self.center;
+        let dd = ray.dir.length_squared();
+        let r = self.radius;
         let len = dd.sqrt();
         let d = ray.dir / len;
         let b = f.dot(d);
@@ -72,6 +91,17 @@ impl Sphere {
         } else {
             return None;
         };
+        Some(Crossing {
+            t: t / len,
+            data: Vec3::new(t, len, 0.0),
+        })
+    }
+
+    /// The hit at crossing `c` of `ray`, as [`Sphere::intersect`] has it.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        let (t, len, r) = (c.data.x, c.data.y, self.radius);
+        let d = ray.dir / len;
         // Reproject the point onto the sphere: its error is then a few
         // roundings of the radius and of the final sum (pbrt-v4).
         // A negative radius turns the normal inwards (a hollow bubble).
@@ -80,13 +110,13 @@ impl Sphere {
         let rel = outward * r.abs();
         let point = self.center + rel;
         let normal = outward * r.signum();
-        Some(ShapeHit {
-            t: t / len,
+        ShapeHit {
+            t: c.t,
             point,
             error: gamma(6) * rel.abs() + gamma(1) * point.abs(),
             normal,
             uv: SurfaceUv::Sphere(normal),
-        })
+        }
     }
 }
 

@@ -10,7 +10,7 @@
 
 use glam::{DVec2, Vec2, Vec3};
 
-use super::ShapeHit;
+use super::{Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
@@ -29,8 +29,8 @@ pub struct Triangle {
 /// the permutation.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    origin: Vec3,
-    rows: [Vec3; 3],
+    pub origin: Vec3,
+    pub rows: [Vec3; 3],
 }
 
 /// Where a ray crosses a triangle: distance and barycentric weights of the
@@ -134,15 +134,36 @@ impl Triangle {
     /// counter-clockwise winding, uv are the barycentrics of vertices 1, 2.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
+        let c = self.crossing(ray, t_min, t_max)?;
+        Some(self.surface(&c))
+    }
+
+    /// The crossing with `t` in `(t_min, t_max)`; its data holds the
+    /// barycentrics.
+    #[inline]
+    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         let h = ShearedRay::new(ray).intersect(self.v, t_min, t_max)?;
+        Some(Crossing {
+            t: h.t,
+            data: h.bary,
+        })
+    }
+
+    /// The hit at crossing `c`, as [`Triangle::intersect`] has it.
+    #[inline]
+    pub fn surface(&self, c: &Crossing) -> ShapeHit {
+        let h = TriangleHit {
+            t: c.t,
+            bary: c.data,
+        };
         let [a, b, c] = self.v;
-        Some(ShapeHit {
+        ShapeHit {
             t: h.t,
             point: h.bary.x * a + h.bary.y * b + h.bary.z * c,
             error: h.error([a, b, c]),
             normal: unit_normal(a, b, c).unwrap_or(Vec3::Y),
             uv: Vec2::new(h.bary.y, h.bary.z).into(),
-        })
+        }
     }
 }
 

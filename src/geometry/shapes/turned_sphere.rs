@@ -6,7 +6,7 @@
 
 use glam::Quat;
 
-use super::{ShapeHit, Sphere};
+use super::{Crossing, ShapeHit, Sphere};
 use crate::geometry::hit::SurfaceUv;
 use crate::geometry::{Aabb, Ray};
 
@@ -26,10 +26,17 @@ impl TurnedSphere {
     /// The sphere's hit with uv read in its own (unturned) frame.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
-        let mut h = self.sphere.intersect(ray, t_min, t_max)?;
+        let c = self.sphere.crossing(ray, t_min, t_max)?;
+        Some(self.surface(ray, &c))
+    }
+
+    /// The sphere's hit at its crossing `c`, with uv turned as above.
+    #[inline]
+    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
+        let mut h = self.sphere.surface(ray, c);
         if let SurfaceUv::Sphere(n) = h.uv {
             h.uv = SurfaceUv::Sphere(self.to_object * n);
         }
-        Some(h)
+        h
     }
 }

@@ -1,0 +1,448 @@
+//! BVH leaves of up to four spheres or triangles stored as structure of
+//! arrays (Embree's "Triangle4" idea), so one `wide::f32x4` pass runs the
+//! cheap rejecting part of four primitive tests at once. The pass is the
+//! scalar test's own arithmetic, operation for operation and in the same
+//! order (no fused multiply-add, as the scalar code has none), so a lane it
+//! rejects is one the scalar test would reject; the lanes it keeps go
+//! through the rest of the scalar test (a sphere's) or all of it (a
+//! triangle's) in slot order, which decides the hit exactly as before, bit
+//! for bit, ties included.
+
+use glam::Vec3;
+use wide::{f32x4, CmpEq, CmpGt, CmpLt};
+
+use super::shapes::sphere::MISS_MARGIN;
+use super::shapes::triangle::ShearedRay;
+use super::shapes::Sphere;
+use super::{Bvh, Ray};
+
+/// Lanes per leaf.
+pub const LANES: usize = 4;
+
+/// The lane mask of the first `count` lanes.
+#[inline]
+pub fn all_lanes(count: usize) -> u32 {
+    (1u32 << count.min(LANES)) - 1
+}
+
+/// A leaf table entry for a leaf without a packed form.
+const UNPACKED: u32 = u32::MAX;
+
+/// Packed leaves of a hierarchy, found by their first slot.
+#[derive(Clone, Debug)]
+pub struct Packs<P> {
+    packs: Vec<P>,
+    /// Per slot: the index in `packs` of the leaf starting there.
+    by_first: Vec<u32>,
+}
+
+impl<P> Default for Packs<P> {
+    fn default() -> Packs<P> {
+        Packs {
+            packs: Vec::new(),
+            by_first: Vec::new(),
+        }
+    }
+}
+
+impl<P> Packs<P> {
+    /// The packed form `pack(first, count)` gives each leaf of `bvh` over
+    /// `slots` slots, where it gives one.
+    pub fn new(
+        bvh: &Bvh,
+        slots: usize,
+        mut pack: impl FnMut(usize, usize) -> Option<P>,
+    ) -> Packs<P> {
+        let mut packs = Vec::new();
+        let mut by_first = vec![UNPACKED; slots];
+        for (first, count) in bvh.leaves() {
+            if let Some(p) = pack(first, count) {
+                by_first[first] = packs.len() as u32;
+                packs.push(p);
+            }
+        }
+        if packs.is_empty() {
+            // Nothing to find: no table (4 bytes per slot) either.
+            by_first = Vec::new();
+        }
+        Packs { packs, by_first }
+    }
+
+    /// The packed form of the leaf starting at slot `first`, if it has one.
+    #[inline]
+    pub fn get(&self, first: usize) -> Option<&P> {
+        let k = *self.by_first.get(first)?;
+        self.packs.get(k as usize)
+    }
+
+    /// Bytes held.
+    pub fn memory(&self) -> usize {
+        self.packs.len() * std::mem::size_of::<P>() + self.by_first.len() * 4
+    }
+}
+
+/// The slots of the lanes set in `mask`, lowest first.
+#[inline]
+pub fn slots(first: usize, mut mask: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        if mask == 0 {
+            return None;
+        }
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        Some(first + lane)
+    })
+}
+
+/// Up to four spheres, by coordinate.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereLeaf {
+    center: [f32x4; 3],
+    radius: f32x4,
+    used: u32,
+}
+
+impl SphereLeaf {
+    /// The leaf of `spheres` (at most four are kept).
+    pub fn new(spheres: &[Sphere]) -> SphereLeaf {
+        let mut c = [[0.0f32; LANES]; 4];
+        for (lane, s) in spheres.iter().take(LANES).enumerate() {
+            let [x, y, z] = s.center.to_array();
+            for (row, value) in c.iter_mut().zip([x, y, z, s.radius]) {
+                row[lane] = value;
+            }
+        }
+        SphereLeaf {
+            center: [c[0], c[1], c[2]].map(f32x4::from),
+            radius: f32x4::from(c[3]),
+            used: all_lanes(spheres.len()),
+        }
+    }
+
+    /// The lanes (bit `i` for lane `i`) whose sphere the early miss test of
+    /// [`Sphere::crossing`] does not reject for `ray`.
+    #[inline]
+    pub fn candidates(&self, ray: &Ray) -> u32 {
+        let dd = f32x4::splat(ray.dir.length_squared());
+        let [dx, dy, dz] = ray.dir.to_array().map(f32x4::splat);
+        let [fx, fy, fz] = [0, 1, 2].map(|a| f32x4::splat(ray.origin[a]) - self.center[a]);
+        // `f.cross(dir)` as glam writes it.
+        let cx = fy * dz - dy * fz;
+        let cy = fz * dx - dz * fx;
+        let cz = fx * dy - dx * fy;
+        let cross2 = cx * cx + cy * cy + cz * cz;
+        let f2 = fx * fx + fy * fy + fz * fz;
+        let r = self.radius;
+        let bound = (r * r + f32x4::splat(MISS_MARGIN) * f2) * dd;
+        let rejected = cross2.cmp_gt(bound).move_mask() as u32;
+        !rejected & self.used
+    }
+}
+
+/// Up to four triangles: per vertex, per axis, the four lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleLeaf {
+    v: [[f32x4; 3]; 3],
+    used: u32,
+}
+
+impl TriangleLeaf {
+    /// The leaf of `triangles` (at most four are kept).
+    pub fn new(triangles: &[[Vec3; 3]]) -> TriangleLeaf {
+        let mut v = [[[0.0f32; LANES]; 3]; 3];
+        for (lane, t) in triangles.iter().take(LANES).enumerate() {
+            for (k, p) in t.iter().enumerate() {
+                for axis in 0..3 {
+                    v[k][axis][lane] = p[axis];
+                }
+            }
+        }
+        TriangleLeaf {
+            v: v.map(|p| p.map(f32x4::from)),
+            used: all_lanes(triangles.len()),
+        }
+    }
+
+    /// The lanes whose triangle the watertight test's coverage step
+    /// ([`ShearedRay::intersect`]) does not reject: edge functions of mixed
+    /// signs reject; a zero one (decided there in f64) or a NaN keeps the
+    /// lane for the scalar test.
+    #[inline]
+    pub fn candidates(&self, ray: &ShearedRay) -> u32 {
+        let [rx, ry, _] = ray.rows;
+        let o = ray.origin.to_array().map(f32x4::splat);
+        let row = |r: Vec3| r.to_array().map(f32x4::splat);
+        let (rx, ry) = (row(rx), row(ry));
+        // `row.dot(vertex - origin)` as glam writes it, per vertex.
+        let xy = self.v.map(|p| {
+            let rel = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
+            let dot = |r: &[f32x4; 3]| r[0] * rel[0] + r[1] * rel[1] + r[2] * rel[2];
+            (dot(&rx), dot(&ry))
+        });
+        let [a, b, c] = xy;
+        let u = c.0 * b.1 - c.1 * b.0;
+        let v = a.0 * c.1 - a.1 * c.0;
+        let w = b.0 * a.1 - b.1 * a.0;
+        let zero = f32x4::ZERO;
+        let exact = u.cmp_eq(zero) | v.cmp_eq(zero) | w.cmp_eq(zero);
+        let neg = u.cmp_lt(zero) | v.cmp_lt(zero) | w.cmp_lt(zero);
+        let pos = u.cmp_gt(zero) | v.cmp_gt(zero) | w.cmp_gt(zero);
+        let rejected = (neg & pos).move_mask() as u32 & !(exact.move_mask() as u32);
+        !rejected & self.used
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::geometry::emitter::LightId;
+    use crate::geometry::mesh::MeshGeometry;
+    use crate::geometry::primitives::{Primitive, PrimitiveSet};
+    use crate::geometry::shapes::triangle::TriangleHit;
+    use crate::geometry::shapes::{Crossing, ShapeHit};
+    use crate::scene::{MaterialId, MeshData};
+
+    /// Pseudo-random numbers in [0, 1) (an LCG: geometry has no sampler).
+    fn numbers(seed: u64) -> impl FnMut() -> f32 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    fn unit(r: &mut impl FnMut() -> f32) -> Vec3 {
+        let z = 2.0 * r() - 1.0;
+        let phi = std::f32::consts::TAU * r();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+
+    /// The same shape hit, bit for bit.
+    fn same_hit(a: &ShapeHit, b: &ShapeHit) -> bool {
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let uv = |h: &ShapeHit| h.uv.get().to_array().map(f32::to_bits);
+        a.t.to_bits() == b.t.to_bits()
+            && bits(a.point) == bits(b.point)
+            && bits(a.error) == bits(b.error)
+            && bits(a.normal) == bits(b.normal)
+            && uv(a) == uv(b)
+    }
+
+    /// Rays at a group of spheres: aimed at random points near them, at
+    /// their silhouettes (grazing, just inside and just outside), from near
+    /// and far, with unnormalized directions.
+    fn sphere_rays(spheres: &[Sphere], r: &mut impl FnMut() -> f32) -> Vec<Ray> {
+        let mut rays = Vec::new();
+        for s in spheres {
+            for k in 0..40 {
+                let away = unit(r);
+                let from = s.center + away * s.radius * (1.5 + 20.0 * r());
+                let side = away.cross(unit(r)).normalize_or(Vec3::X);
+                let edge = 1.0 + (r() - 0.5) * 1e-5 * (k % 4) as f32;
+                let target = match k % 3 {
+                    0 => s.center + side * s.radius * edge,
+                    1 => s.center + unit(r) * s.radius * r(),
+                    _ => s.center + unit(r) * s.radius * 3.0,
+                };
+                rays.push(Ray::new(from, (target - from) * (0.1 + 4.0 * r()), 0.0));
+            }
+        }
+        rays
+    }
+
+    #[test]
+    fn sphere_leaf_keeps_every_lane_the_scalar_test_hits_and_the_same_nearest() {
+        let mut r = numbers(11);
+        let (mut kept, mut hits) = (0, 0);
+        for group in 0..200 {
+            let count = 1 + group % LANES;
+            let far = [0.0, 1e3, 1e5][group % 3];
+            let base = unit(&mut r) * far;
+            let spheres: Vec<Sphere> = (0..count)
+                .map(|_| Sphere {
+                    center: base + unit(&mut r) * 3.0 * r(),
+                    radius: [0.01, 1.0, 50.0][group % 3] * (0.2 + r()) * [1.0, -1.0][group % 5 / 4],
+                })
+                .collect();
+            let leaf = SphereLeaf::new(&spheres);
+            for ray in sphere_rays(&spheres, &mut r) {
+                let lanes = leaf.candidates(&ray);
+                assert_eq!(lanes & !all_lanes(count), 0);
+                // Slot by slot as the scalar loop, and over the kept lanes.
+                let mut scalar: Option<(Crossing, usize)> = None;
+                let mut packed: Option<(Crossing, usize)> = None;
+                for (i, s) in spheres.iter().enumerate() {
+                    let t_max = scalar.map_or(f32::INFINITY, |(c, _)| c.t);
+                    let c = s.crossing(&ray, 1e-4, t_max);
+                    if lanes & (1 << i) == 0 {
+                        assert_eq!(c, None, "a rejected lane is hit: {s:?} {ray:?}");
+                    } else {
+                        kept += 1;
+                        let t_max = packed.map_or(f32::INFINITY, |(c, _)| c.t);
+                        if let Some(c) = s.crossing_kept(&ray, 1e-4, t_max) {
+                            packed = Some((c, i));
+                        }
+                    }
+                    if let Some(c) = c {
+                        scalar = Some((c, i));
+                    }
+                }
+                assert_eq!(packed, scalar);
+                if let (Some((a, i)), Some((b, _))) = (packed, scalar) {
+                    hits += 1;
+                    let s = &spheres[i];
+                    assert!(same_hit(&s.surface(&ray, &a), &s.surface(&ray, &b)));
+                    // The winner's nearest crossing is what the one-step
+                    // test gives without a bound.
+                    let whole = s.intersect(&ray, 1e-4, f32::INFINITY);
+                    assert!(whole.is_some_and(|h| same_hit(&h, &s.surface(&ray, &b))));
+                }
+            }
+        }
+        assert!(hits > 5000 && kept > hits, "too few hits: {hits} of {kept}");
+    }
+
+    /// Triangles sharing edges and vertices (a fan), and rays aimed at
+    /// their interiors, edges and vertices and along their planes.
+    #[test]
+    fn triangle_leaf_keeps_every_lane_the_scalar_test_hits_and_the_same_nearest() {
+        let mut r = numbers(5);
+        let (mut hits, mut edge_hits) = (0, 0);
+        for group in 0..300 {
+            let count = 1 + group % LANES;
+            let far = [0.0, 1e3, 1e5][group % 3];
+            let hub = unit(&mut r) * far;
+            let size = [1e-2, 1.0, 30.0][group % 3];
+            let rim: Vec<Vec3> = (0..=count).map(|_| hub + unit(&mut r) * size).collect();
+            let tris: Vec<[Vec3; 3]> = (0..count).map(|i| [hub, rim[i], rim[i + 1]]).collect();
+            let leaf = TriangleLeaf::new(&tris);
+            for k in 0..60 {
+                let t = tris[k % count];
+                let w = Vec3::new(r(), r(), r());
+                let w = match k % 4 {
+                    0 => w / (w.x + w.y + w.z),
+                    1 => Vec3::new(0.0, w.y, 1.0 - w.y),
+                    2 => Vec3::new(1.0 - w.z, 0.0, w.z),
+                    _ => Vec3::new(1.0, 0.0, 0.0),
+                };
+                let target = w.x * t[0] + w.y * t[1] + w.z * t[2];
+                let normal = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or(Vec3::Z);
+                let away = if k % 7 == 6 {
+                    // Nearly in the plane: a grazing ray.
+                    (normal * 1e-3 + (t[1] - t[0]).normalize_or(Vec3::X)).normalize()
+                } else {
+                    unit(&mut r)
+                };
+                let from = target + away * size * (1.0 + 10.0 * r());
+                let ray = Ray::new(from, (target - from) * (0.5 + r()), 0.0);
+                let sheared = ShearedRay::new(&ray);
+                let lanes = leaf.candidates(&sheared);
+                assert_eq!(lanes & !all_lanes(count), 0);
+                let (mut scalar, mut packed): (Option<(TriangleHit, usize)>, _) = (None, None);
+                for (i, tri) in tris.iter().enumerate() {
+                    let t_max = scalar.map_or(f32::INFINITY, |(h, _)| h.t);
+                    let h = sheared.intersect(*tri, 0.0, t_max);
+                    if lanes & (1 << i) == 0 {
+                        assert_eq!(h, None, "a rejected lane is hit: {tri:?} {ray:?}");
+                    } else {
+                        let t_max = packed.map_or(f32::INFINITY, |(h, _): (TriangleHit, _)| h.t);
+                        if let Some(h) = sheared.intersect(*tri, 0.0, t_max) {
+                            packed = Some((h, i));
+                        }
+                    }
+                    if let Some(h) = h {
+                        scalar = Some((h, i));
+                    }
+                }
+                assert_eq!(packed, scalar);
+                hits += usize::from(scalar.is_some());
+                edge_hits += usize::from(scalar.is_some() && k % 4 != 0);
+            }
+        }
+        assert!(
+            hits > 8000 && edge_hits > 5000,
+            "{hits} hits, {edge_hits} on edges"
+        );
+    }
+
+    /// The nearest hit of every primitive, slot order breaking ties, by
+    /// testing them all with the whole scalar test.
+    fn brute_force(prims: &[Primitive], ray: &Ray) -> Option<ShapeHit> {
+        let mut best: Option<ShapeHit> = None;
+        for p in prims {
+            let t_max = best.map_or(f32::INFINITY, |h| h.t);
+            if let Some(h) = p.intersect(ray, 1e-4, t_max) {
+                best = Some(h);
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn packed_sphere_sets_and_meshes_find_the_brute_force_hit() {
+        let mut r = numbers(3);
+        let spheres: Vec<Sphere> = (0..300)
+            .map(|_| Sphere {
+                center: Vec3::new(r(), r(), r()) * 40.0 + Vec3::splat(1e4),
+                radius: 0.2 + r(),
+            })
+            .collect();
+        let prims: Vec<Primitive> = spheres.iter().map(|s| Primitive::Sphere(*s)).collect();
+        let set = PrimitiveSet::new(
+            prims
+                .iter()
+                .map(|p| (*p, MaterialId(0), LightId::NONE))
+                .collect(),
+        );
+        let positions: Vec<Vec3> = (0..600)
+            .map(|_| Vec3::new(r(), r(), r()) * 40.0 + Vec3::splat(1e4))
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..200)
+            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2].map(|j| j % 600))
+            .map(|[a, b, c]| [a, (b + 37) % 600, (c + 91) % 600])
+            .collect();
+        let tri_prims: Vec<Primitive> = triangles
+            .iter()
+            .map(|t| {
+                let v = t.map(|i| positions[i as usize]);
+                Primitive::Triangle(crate::geometry::shapes::Triangle { v })
+            })
+            .collect();
+        let data = MeshData {
+            positions,
+            triangles,
+            ..MeshData::default()
+        };
+        let mesh = MeshGeometry::new(Arc::new(data), vec![MaterialId(0)]);
+        let (mut sphere_hits, mut mesh_hits) = (0, 0);
+        for _ in 0..3000 {
+            let from = Vec3::new(r(), r(), r()) * 80.0 - 20.0 + Vec3::splat(1e4);
+            let to = Vec3::new(r(), r(), r()) * 40.0 + Vec3::splat(1e4);
+            let ray = Ray::new(from, to - from, 0.0);
+            let want = brute_force(&prims, &ray);
+            let got = set.intersect(&ray, 1e-4, f32::INFINITY).map(|h| h.0);
+            assert_eq!(got.is_some(), want.is_some());
+            if let (Some(a), Some(b)) = (got, want) {
+                assert!(same_hit(&a, &b), "{a:?} != {b:?}");
+                sphere_hits += 1;
+            }
+            // Triangles may tie only at shared vertices, which these miss.
+            let want = brute_force(&tri_prims, &ray);
+            let got = mesh.intersect(&ray, 1e-4, f32::INFINITY).map(|h| h.hit);
+            assert_eq!(got.map(|h| h.t.to_bits()), want.map(|h| h.t.to_bits()));
+            if let (Some(a), Some(b)) = (got, want) {
+                assert!(same_hit(&a, &b), "{a:?} != {b:?}");
+                mesh_hits += 1;
+            }
+        }
+        assert!(
+            sphere_hits > 500 && mesh_hits > 500,
+            "{sphere_hits}, {mesh_hits}"
+        );
+    }
+}
