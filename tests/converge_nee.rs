@@ -2,7 +2,9 @@
 //! without next-event estimation agree block by block within their noise on
 //! the Cornell box (diffuse, and with its white surfaces fuzzy metal) and on
 //! a scene with a sphere light, a glass ball, a mirror, a one-sided rect
-//! light and a fog ball; the white furnace still returns its albedo with
+//! light and a fog ball (and the same with a second ball of the sphere
+//! light's material under a motion, which is not sampled while the first
+//! still is); the white furnace still returns its albedo with
 //! light sampling on; on a field of 64 small lamps of different colours and
 //! powers (rects and balls, one in a fog ball), choosing lights by the light
 //! tree and by power give the same image, and the same as plain path tracing.
@@ -22,7 +24,9 @@ use rtlang::render::lights::{LightList, LightSelection};
 use rtlang::render::scenes::cornell_box;
 use rtlang::render::{render, RenderOptions};
 use rtlang::scene::object::RectPlane;
-use rtlang::scene::{Background, Camera, Material, MaterialId, Node, Scene, Shape, Texture};
+use rtlang::scene::{
+    Background, Camera, Material, MaterialId, Motion, Node, Scene, Shape, Texture,
+};
 
 /// The lights a tree-selecting render of `scene` samples.
 fn tree_lights(scene: &Scene) -> LightList {
@@ -231,6 +235,32 @@ fn glass_and_sphere_light(size: u32, spp: u32) -> Scene {
 #[test]
 fn sphere_light_glass_mirror_and_fog_with_and_without_light_sampling_agree() {
     let scene = glass_and_sphere_light(32, 64);
+    assert_eq!(tree_lights(&scene).lights().len(), 2);
+    assert_agree("path vs nee", compare(&scene), 0.03);
+}
+
+/// One light material on two shapes, one of which light sampling cannot
+/// describe (a ball under a motion): the other is still sampled, on its own,
+/// while the hidden one's hits count in full.
+#[test]
+fn a_lamp_material_partly_under_a_motion_is_sampled_where_it_can_be() {
+    let mut scene = glass_and_sphere_light(32, 64);
+    let bulb = MaterialId(3);
+    assert!(matches!(
+        scene.materials[bulb.0 as usize],
+        Material::Light { .. }
+    ));
+    scene.objects.push(Node::Motion {
+        motion: Motion::default(),
+        child: Box::new(Node::Shape {
+            shape: Shape::Sphere {
+                center: Vec3::new(-1.5, 2.5, -1.0),
+                radius: 0.4,
+            },
+            material: bulb,
+        }),
+    });
+    // The static bulb and the panel; not the ball under the motion.
     assert_eq!(tree_lights(&scene).lights().len(), 2);
     assert_agree("path vs nee", compare(&scene), 0.03);
 }

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4};
 
 use super::bake::{flatten, primitive, Baked};
-use super::emitter::{is_light, mark, Emitters, LightId, Placed, Source};
+use super::emitter::{is_light, Emitters, LightId, Placed, Source};
 use super::group::Group;
 use super::instance::{is_bounded, Instance, Placement, StaticTransform};
 use super::medium::{Medium, MediumSegments};
@@ -57,13 +57,12 @@ impl World {
             in_progress: Vec::new(),
             revolutions: Vec::new(),
             placed: Vec::new(),
-            unlisted: vec![false; scene.materials.len()],
         };
         let root = b.instance(scene.objects.iter(), &At::WORLD)?;
         Ok(World {
             root,
             revolutions: b.revolutions,
-            emitters: Emitters::finish(scene, &b.placed, b.unlisted),
+            emitters: Emitters::finish(scene, &b.placed),
         })
     }
 
@@ -124,8 +123,6 @@ struct Builder<'a> {
     /// The emitters found so far, numbered in the space being built (the
     /// world's, or a prototype's while it is built).
     placed: Vec<Placed>,
-    /// Per material: whether an emissive shape of it has no emitter.
-    unlisted: Vec<bool>,
 }
 
 /// What the walk does with the emitters below a node.
@@ -133,10 +130,10 @@ struct Builder<'a> {
 enum Emitting {
     /// Collects them.
     Listed,
-    /// Collects none and marks their materials unlisted (under a motion).
-    Unlisted,
-    /// Ignores them (a medium's boundary, which is never hit as a surface).
-    Ignored,
+    /// Collects none: their hits carry no light id and count in full, as
+    /// those of any emitter light sampling cannot describe (under a motion,
+    /// or a medium's boundary, which is never hit as a surface).
+    Hidden,
 }
 
 /// Where the walk is: the map from the current space to the space the
@@ -156,8 +153,7 @@ impl At {
         emitting: Emitting::Listed,
     };
 
-    /// Below a node that lists fewer emitters: an ignored emitter stays
-    /// ignored even under a motion, as a medium's boundary always is.
+    /// Below a node that lists fewer emitters: a hidden one stays hidden.
     fn with(self, emitting: Emitting) -> At {
         At {
             emitting: self.emitting.max(emitting),
@@ -170,8 +166,7 @@ impl Builder<'_> {
     /// The light id of a shape of `material` (`source`, if it is a kind
     /// the list describes), mapped from its own space to the current one by
     /// `to_here`, at `at` with `flips` more flips: a new emitter if it is a
-    /// light that can be listed here, otherwise `NONE` (and a light's
-    /// material is marked unlisted, unless emitters are ignored here).
+    /// light that can be listed here, otherwise `NONE`.
     fn emitter(
         &mut self,
         source: Option<Source>,
@@ -193,11 +188,7 @@ impl Builder<'_> {
                 });
                 LightId::new(self.placed.len() - 1)
             }
-            (Emitting::Ignored, _) => LightId::NONE,
-            _ => {
-                mark(&mut self.unlisted, material);
-                LightId::NONE
-            }
+            _ => LightId::NONE,
         }
     }
 
@@ -294,7 +285,7 @@ impl Builder<'_> {
             Node::Motion { motion, child } => {
                 // Light sampling does not follow a motion, not even one
                 // that turns out to stand still.
-                let at = at.with(Emitting::Unlisted);
+                let at = at.with(Emitting::Hidden);
                 let compiled = CompiledMotion::new(motion);
                 if compiled.is_identity() {
                     return self.collect(child, &at, prims, items);
@@ -321,7 +312,7 @@ impl Builder<'_> {
                 material,
             } => {
                 let inner =
-                    self.instance(std::iter::once(&**boundary), &at.with(Emitting::Ignored))?;
+                    self.instance(std::iter::once(&**boundary), &at.with(Emitting::Hidden))?;
                 let medium = Medium {
                     boundary: self.unplaced(inner),
                     density: *density,
@@ -476,13 +467,7 @@ impl Builder<'_> {
                 }));
                 base
             }
-            Emitting::Unlisted => {
-                for p in own {
-                    mark(&mut self.unlisted, p.material);
-                }
-                LightId::NONE
-            }
-            Emitting::Ignored => LightId::NONE,
+            Emitting::Hidden => LightId::NONE,
         };
         Ok(inst.clone().with_lights(base))
     }
@@ -576,12 +561,12 @@ mod tests {
             assert_eq!(centre(emitter_below(&world, x, 0.0)), Some(c), "{c}");
             assert_eq!(emitter_below(&world, x, 5.0), None, "the grey ball");
         }
-        assert_eq!(world.emitters().unlisted, [false, false]);
     }
 
     /// Baked shapes (a rect moved and flipped) and mesh triangles carry
     /// their ids too; a flip turns a flat emitter's normal; an emitter
-    /// under a motion has no id and its material is marked unlisted.
+    /// under a motion has no id, and the static shapes of its material keep
+    /// theirs.
     #[test]
     fn baked_flipped_mesh_and_moving_emitters_are_named_as_listed() {
         let (mut scene, light) = lit();
@@ -628,7 +613,6 @@ mod tests {
             }
             other => panic!("not the triangle: {other:?}"),
         }
-        assert_eq!(world.emitters().unlisted, [false, false]);
         scene.objects.push(Node::Motion {
             motion: Motion::default(),
             child: Box::new(moved(9.0, 0.0, scene.objects[1].clone())),
@@ -641,6 +625,9 @@ mod tests {
             f32::INFINITY,
         );
         assert_eq!(hit.map(|h| h.light), Some(LightId::NONE));
-        assert_eq!(world.emitters().unlisted, [true, false]);
+        assert!(matches!(
+            emitter_below(&world, -3.0, 0.0).map(|e| e.shape),
+            Some(LightShape::Triangle { .. })
+        ));
     }
 }

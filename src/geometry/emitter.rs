@@ -7,8 +7,8 @@
 //!
 //! An emitter the list cannot describe (a moving, planar, box, revolution
 //! or non-uniformly scaled spherical one, or a one-sided sphere turned
-//! inside out by `flip`) has no entry, and its material is marked
-//! [`Emitters::unlisted`].
+//! inside out by `flip`) has no entry: its hits count in full, while the
+//! other shapes of its material are still sampled, each on its own.
 
 use glam::{Affine3A, Mat3A, Vec3};
 
@@ -84,8 +84,6 @@ pub struct Emitters {
     /// `None` where the shape turned out not to be describable (a sphere
     /// under a non-uniform scale, a flipped one-sided sphere).
     pub list: Vec<Option<Emitter>>,
-    /// Per material: whether some emissive shape of it has no entry.
-    pub unlisted: Vec<bool>,
 }
 
 /// An emissive shape in its own space, as the scene gives it.
@@ -134,17 +132,10 @@ pub fn is_light(scene: &Scene, material: MaterialId) -> bool {
     )
 }
 
-/// Marks `material` in `unlisted`.
-pub fn mark(unlisted: &mut [bool], material: MaterialId) {
-    if let Some(u) = unlisted.get_mut(material.0 as usize) {
-        *u = true;
-    }
-}
-
 impl Emitters {
-    /// The world-space emitters of `placed`, in order; marks in `unlisted`
-    /// the materials of those that cannot be described.
-    pub fn finish(scene: &Scene, placed: &[Placed], mut unlisted: Vec<bool>) -> Emitters {
+    /// The world-space emitters of `placed`, in order (`None` for those
+    /// that cannot be described).
+    pub fn finish(scene: &Scene, placed: &[Placed]) -> Emitters {
         let list = placed
             .iter()
             .map(|p| {
@@ -158,16 +149,13 @@ impl Emitters {
                 let shape = p.shape().filter(|s| {
                     !matches!(s, LightShape::Sphere { .. }) || p.flips == 0 || two_sided
                 });
-                if shape.is_none() {
-                    mark(&mut unlisted, p.material);
-                }
                 Some(Emitter {
                     shape: shape?,
                     material: p.material,
                 })
             })
             .collect();
-        Emitters { list, unlisted }
+        Emitters { list }
     }
 }
 

@@ -206,13 +206,11 @@ impl LightList {
     /// The lights of `scene` among the world's `emitters`, to be chosen by
     /// `selection`.
     pub fn build(scene: &Scene, emitters: &Emitters, selection: LightSelection) -> LightList {
-        let unlisted = |i: usize| emitters.unlisted.get(i).copied().unwrap_or(false);
         let weight: Vec<Option<(f32, Vec3, bool)>> = scene
             .materials
             .iter()
-            .enumerate()
-            .map(|(i, m)| match *m {
-                Material::Light { emit, two_sided } if !unlisted(i) => match scene.texture(emit) {
+            .map(|m| match *m {
+                Material::Light { emit, two_sided } => match scene.texture(emit) {
                     Texture::Solid(c) => Some((luminance(*c), *c, two_sided)).filter(|w| w.0 > 0.0),
                     _ => None,
                 },
@@ -704,7 +702,6 @@ mod tests {
         let list = lights_of(&moving, LightSelection::Tree);
         assert!(list.is_empty());
         let w = world(&moving);
-        assert_eq!(w.emitters().unlisted, [true]);
         let hit = w
             .intersect(&Ray::new(Vec3::ZERO, Vec3::Z, 0.0), 0.0, f32::INFINITY)
             .expect("the moving lamp");
