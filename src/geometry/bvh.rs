@@ -315,8 +315,7 @@ impl Bvh {
 
     /// Visits, nearest first as far as the tree tells, every leaf primitive
     /// whose box the ray enters before `t_max`. `visit(slot, t_max)` returns
-    /// a new, closer `t_max` when it found a hit; a returned `t_max` below
-    /// zero (below any `t_min`) ends the traversal at once. Shadow rays use
+    /// a new, closer `t_max` when it found a hit. Shadow rays use
     /// [`Bvh::traverse_any`] instead.
     #[inline]
     pub fn traverse(
@@ -330,9 +329,6 @@ impl Bvh {
             for slot in first..first + count {
                 if let Some(t) = visit(slot, t_max) {
                     (t_max, found) = (t, Some(t));
-                    if t < 0.0 {
-                        break;
-                    }
                 }
             }
             found
@@ -378,9 +374,6 @@ impl Bvh {
                 let (first, count) = leaf_range(word);
                 if let Some(t) = visit(first, count, t_max) {
                     t_max = t;
-                    if t_max < 0.0 {
-                        return;
-                    }
                 }
             }
             // Inner children: the nearest is visited next, the others go onto
@@ -653,24 +646,6 @@ mod tests {
             hits += usize::from(expected.is_some());
         }
         assert!(hits > 100, "the test rays mostly miss: {hits}");
-    }
-
-    #[test]
-    fn a_negative_t_max_ends_the_traversal() {
-        let boxes: Vec<Aabb> = (0..64)
-            .map(|i| {
-                let x = i as f32 * 2.0;
-                Aabb::new(Vec3::new(x, -1.0, -1.0), Vec3::new(x + 1.0, 1.0, 1.0))
-            })
-            .collect();
-        let (bvh, _) = Bvh::build(&boxes);
-        let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X, 0.0);
-        let mut visits = 0;
-        bvh.traverse(&ray, f32::INFINITY, |_, _| {
-            visits += 1;
-            Some(-1.0)
-        });
-        assert_eq!(visits, 1);
     }
 
     /// The any-hit walk answers "is there a closest hit" for rays whose
