@@ -427,8 +427,7 @@ impl Bvh {
                     }
                     continue;
                 }
-                let first = (word & SLOT_MASK) as usize;
-                let count = ((word >> 29) & 3) as usize + 1;
+                let (first, count) = leaf_range(word);
                 if (first..first + count).any(|slot| hit(slot, t_max)) {
                     return true;
                 }
@@ -566,6 +565,7 @@ fn partition(items: &mut [BuildItem], left: impl Fn(&BuildItem) -> bool) -> usiz
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::rng::numbers;
 
     #[test]
     fn nodes_are_two_cache_lines() {
@@ -598,38 +598,36 @@ mod tests {
         assert!(!any);
     }
 
-    /// Pseudo-random unit-interval numbers for the tests (an LCG; geometry
-    /// has no random numbers of its own).
-    fn numbers(seed: u64) -> impl FnMut() -> f32 {
-        let mut state = seed;
-        move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        }
+    /// `count` boxes with centres in [0, 20]³ and half-sizes up to `half`.
+    fn random_boxes(r: &mut impl FnMut() -> f32, count: usize, half: f32) -> Vec<Aabb> {
+        (0..count)
+            .map(|_| {
+                let c = Vec3::new(r(), r(), r()) * 20.0;
+                let h = Vec3::new(r(), r(), r()) * half;
+                Aabb::new(c - h, c + h)
+            })
+            .collect()
+    }
+
+    /// A ray from around the boxes of [`random_boxes`] towards a point among
+    /// them, with the reciprocal of its direction.
+    fn random_ray(r: &mut impl FnMut() -> f32) -> (Ray, Vec3) {
+        let origin = Vec3::new(r(), r(), r()) * 30.0 - 5.0;
+        let dir = (Vec3::new(r(), r(), r()) * 20.0 - origin).normalize();
+        (Ray::new(origin, dir, 0.0), dir.recip())
     }
 
     #[test]
     fn nearest_hit_matches_brute_force_on_random_boxes() {
         let mut r = numbers(7);
-        let boxes: Vec<Aabb> = (0..1000)
-            .map(|_| {
-                let c = Vec3::new(r(), r(), r()) * 20.0;
-                let h = Vec3::new(r(), r(), r()) * 0.7;
-                Aabb::new(c - h, c + h)
-            })
-            .collect();
+        let boxes = random_boxes(&mut r, 1000, 0.7);
         let (bvh, order) = Bvh::build(&boxes);
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert_eq!(sorted, (0..1000).collect::<Vec<u32>>());
         let mut hits = 0;
         for _ in 0..500 {
-            let origin = Vec3::new(r(), r(), r()) * 30.0 - 5.0;
-            let dir = (Vec3::new(r(), r(), r()) * 20.0 - origin).normalize();
-            let ray = Ray::new(origin, dir, 0.0);
-            let inv = dir.recip();
+            let (ray, inv) = random_ray(&mut r);
             // The entry distance stands in for a primitive's hit distance.
             let entry = |i: usize| boxes[i].hit(&ray, inv, 0.0, f32::INFINITY);
             let expected = (0..boxes.len())
@@ -654,20 +652,11 @@ mod tests {
     #[test]
     fn any_hit_agrees_with_the_closest_hit_on_random_boxes() {
         let mut r = numbers(11);
-        let boxes: Vec<Aabb> = (0..700)
-            .map(|_| {
-                let c = Vec3::new(r(), r(), r()) * 20.0;
-                let h = Vec3::new(r(), r(), r()) * 0.6;
-                Aabb::new(c - h, c + h)
-            })
-            .collect();
+        let boxes = random_boxes(&mut r, 700, 0.6);
         let (bvh, order) = Bvh::build(&boxes);
         let (mut hits, mut misses) = (0, 0);
         for _ in 0..600 {
-            let origin = Vec3::new(r(), r(), r()) * 30.0 - 5.0;
-            let dir = (Vec3::new(r(), r(), r()) * 20.0 - origin).normalize();
-            let ray = Ray::new(origin, dir, 0.0);
-            let inv = dir.recip();
+            let (ray, inv) = random_ray(&mut r);
             // A "primitive" is hit at its box's entry distance, if beyond 0.
             let entry = |slot: usize| {
                 boxes[order[slot] as usize]

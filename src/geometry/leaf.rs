@@ -202,18 +202,8 @@ mod tests {
     use crate::geometry::primitives::{Primitive, PrimitiveSet};
     use crate::geometry::shapes::triangle::TriangleHit;
     use crate::geometry::shapes::{Crossing, ShapeHit};
+    use crate::sampling::rng::numbers;
     use crate::scene::{MaterialId, MeshData};
-
-    /// Pseudo-random numbers in [0, 1) (an LCG: geometry has no sampler).
-    fn numbers(seed: u64) -> impl FnMut() -> f32 {
-        let mut state = seed;
-        move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
 
     fn unit(r: &mut impl FnMut() -> f32) -> Vec3 {
         let z = 2.0 * r() - 1.0;
@@ -255,6 +245,40 @@ mod tests {
         rays
     }
 
+    /// A leaf's nearest hit and its slot.
+    type Nearest<H> = Option<(H, usize)>;
+
+    /// Slot by slot as the scalar loop over a leaf of `count` primitives:
+    /// the nearest hit of the whole test `whole(i, t_max)` over every slot,
+    /// the nearest of `rest(i, t_max)` over the lanes `lanes` keeps, and how
+    /// many it keeps. A lane it rejects must be one the whole test misses.
+    fn scalar_and_kept<H: Copy + std::fmt::Debug>(
+        count: usize,
+        lanes: u32,
+        t: impl Fn(&H) -> f32,
+        whole: impl Fn(usize, f32) -> Option<H>,
+        rest: impl Fn(usize, f32) -> Option<H>,
+    ) -> (Nearest<H>, Nearest<H>, usize) {
+        let (mut scalar, mut packed, mut kept): (Nearest<H>, Nearest<H>, _) = (None, None, 0);
+        for i in 0..count {
+            let t_max = scalar.map_or(f32::INFINITY, |(h, _)| t(&h));
+            let h = whole(i, t_max);
+            if lanes & (1 << i) == 0 {
+                assert!(h.is_none(), "a rejected lane {i} is hit: {h:?}");
+            } else {
+                kept += 1;
+                let t_max = packed.map_or(f32::INFINITY, |(h, _)| t(&h));
+                if let Some(h) = rest(i, t_max) {
+                    packed = Some((h, i));
+                }
+            }
+            if let Some(h) = h {
+                scalar = Some((h, i));
+            }
+        }
+        (scalar, packed, kept)
+    }
+
     #[test]
     fn sphere_leaf_keeps_every_lane_the_scalar_test_hits_and_the_same_nearest() {
         let mut r = numbers(11);
@@ -273,25 +297,14 @@ mod tests {
             for ray in sphere_rays(&spheres, &mut r) {
                 let lanes = leaf.candidates(&ray);
                 assert_eq!(lanes & !all_lanes(count), 0);
-                // Slot by slot as the scalar loop, and over the kept lanes.
-                let mut scalar: Option<(Crossing, usize)> = None;
-                let mut packed: Option<(Crossing, usize)> = None;
-                for (i, s) in spheres.iter().enumerate() {
-                    let t_max = scalar.map_or(f32::INFINITY, |(c, _)| c.t);
-                    let c = s.crossing(&ray, 1e-4, t_max);
-                    if lanes & (1 << i) == 0 {
-                        assert_eq!(c, None, "a rejected lane is hit: {s:?} {ray:?}");
-                    } else {
-                        kept += 1;
-                        let t_max = packed.map_or(f32::INFINITY, |(c, _)| c.t);
-                        if let Some(c) = s.crossing_kept(&ray, 1e-4, t_max) {
-                            packed = Some((c, i));
-                        }
-                    }
-                    if let Some(c) = c {
-                        scalar = Some((c, i));
-                    }
-                }
+                let (scalar, packed, k) = scalar_and_kept(
+                    count,
+                    lanes,
+                    |c: &Crossing| c.t,
+                    |i, t_max| spheres[i].crossing(&ray, 1e-4, t_max),
+                    |i, t_max| spheres[i].crossing_kept(&ray, 1e-4, t_max),
+                );
+                kept += k;
                 assert_eq!(packed, scalar);
                 if let (Some((a, i)), Some((b, _))) = (packed, scalar) {
                     hits += 1;
@@ -343,22 +356,9 @@ mod tests {
                 let sheared = ShearedRay::new(&ray);
                 let lanes = leaf.candidates(&sheared);
                 assert_eq!(lanes & !all_lanes(count), 0);
-                let (mut scalar, mut packed): (Option<(TriangleHit, usize)>, _) = (None, None);
-                for (i, tri) in tris.iter().enumerate() {
-                    let t_max = scalar.map_or(f32::INFINITY, |(h, _)| h.t);
-                    let h = sheared.intersect(*tri, 0.0, t_max);
-                    if lanes & (1 << i) == 0 {
-                        assert_eq!(h, None, "a rejected lane is hit: {tri:?} {ray:?}");
-                    } else {
-                        let t_max = packed.map_or(f32::INFINITY, |(h, _): (TriangleHit, _)| h.t);
-                        if let Some(h) = sheared.intersect(*tri, 0.0, t_max) {
-                            packed = Some((h, i));
-                        }
-                    }
-                    if let Some(h) = h {
-                        scalar = Some((h, i));
-                    }
-                }
+                let test = |i: usize, t_max| sheared.intersect(tris[i], 0.0, t_max);
+                let (scalar, packed, _) =
+                    scalar_and_kept(count, lanes, |h: &TriangleHit| h.t, test, test);
                 assert_eq!(packed, scalar);
                 hits += usize::from(scalar.is_some());
                 edge_hits += usize::from(scalar.is_some() && k % 4 != 0);

@@ -202,7 +202,6 @@ struct Inner {
 #[derive(Clone, Debug, Default)]
 pub struct LightTree {
     inner: Vec<Inner>,
-    lights: usize,
     /// Per light: the child taken at each level (bit k: 1 = second child)
     /// and the number of levels.
     paths: Vec<(u64, u32)>,
@@ -216,7 +215,6 @@ impl LightTree {
     pub fn build(lights: &[LightBounds]) -> LightTree {
         let mut tree = LightTree {
             inner: Vec::with_capacity(lights.len().saturating_sub(1)),
-            lights: lights.len(),
             paths: vec![(0, 0); lights.len()],
         };
         let mut order: Vec<u32> = (0..lights.len() as u32).collect();
@@ -286,7 +284,7 @@ impl LightTree {
     /// Chooses a light for `p` (normal `n`, zero in a medium) with the
     /// uniform number `u`: its index and the probability of choosing it.
     pub fn sample(&self, p: DVec3, n: DVec3, u: f64) -> Option<(usize, f64)> {
-        if self.lights == 1 {
+        if self.paths.len() == 1 {
             return Some((0, 1.0));
         }
         let mut u = u.min(ONE_MINUS_EPSILON);

@@ -181,17 +181,16 @@ mod tests {
 
     #[test]
     fn a_failed_write_leaves_the_old_file_and_no_temporary() {
-        let dir = std::env::temp_dir().join(format!("rtlang-output-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
+        let scratch = tempfile::tempdir().expect("temp dir");
+        let dir = scratch.path();
         let path = dir.join("old.png");
         std::fs::write(&path, b"old content").expect("writes");
         // Two pixels for a 2×2 image: the encoder fails half-way.
         let err = write_image(&path, 2, 2, &[Vec3::ONE; 2]);
         assert!(err.is_err());
         assert_eq!(std::fs::read(&path).expect("reads"), b"old content");
-        let left: Vec<_> = std::fs::read_dir(&dir).expect("lists").collect();
+        let left: Vec<_> = std::fs::read_dir(dir).expect("lists").collect();
         assert_eq!(left.len(), 1, "temporary file left behind");
-        std::fs::remove_dir_all(&dir).expect("cleans up");
     }
 
     /// The absolute difference of every 8-bit channel of the image file at
@@ -210,9 +209,8 @@ mod tests {
 
     #[test]
     fn jpeg_round_trips_within_its_quantisation() {
-        let dir = std::env::temp_dir().join(format!("rtlang-jpeg-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        let path = dir.join("ramp.JPG");
+        let scratch = tempfile::tempdir().expect("temp dir");
+        let path = scratch.path().join("ramp.JPG");
         let (w, h) = (64u32, 32u32);
         let pixels: Vec<Vec3> = (0..w * h)
             .map(|i| {
@@ -228,13 +226,12 @@ mod tests {
         // about one 8-bit level; chroma subsampling moves a few pixels more.
         assert!(mean <= 2.0, "mean channel error {mean}");
         assert!(worst <= 16, "largest channel error {worst}");
-        std::fs::remove_dir_all(&dir).expect("cleans up");
     }
 
     #[test]
     fn a_lower_jpeg_quality_writes_a_smaller_coarser_file() {
-        let dir = std::env::temp_dir().join(format!("rtlang-jpegq-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
+        let scratch = tempfile::tempdir().expect("temp dir");
+        let dir = scratch.path();
         let (w, h) = (96u32, 64u32);
         // A busy pattern, so quantisation shows in both size and error.
         let pixels: Vec<Vec3> = (0..w * h)
@@ -260,7 +257,6 @@ mod tests {
         write_image(&dir.join("default.jpg"), w, h, &pixels).expect("writes");
         let read = |name: &str| std::fs::read(dir.join(name)).expect("reads");
         assert_eq!(read("default.jpg"), read(&format!("q{JPEG_QUALITY}.jpg")));
-        std::fs::remove_dir_all(&dir).expect("cleans up");
     }
 
     #[test]

@@ -70,6 +70,14 @@ impl Rng {
     }
 }
 
+/// The uniform numbers in [0, 1) of the stream of `seed`, as a closure:
+/// random data for tests (geometry's among them, which draw no samples).
+#[cfg(test)]
+pub fn numbers(seed: u64) -> impl FnMut() -> f32 {
+    let mut rng = Rng::for_sample(seed, 0, 0, 0);
+    move || rng.next_f32()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

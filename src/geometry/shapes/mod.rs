@@ -45,7 +45,7 @@ pub struct ShapeHit {
 pub struct Crossing {
     pub t: f32,
     /// Shape-specific: a sphere's distance along the unit direction and
-    /// the direction's length, a
-    /// quad's `(u, v)`, a triangle's barycentrics, a box's face axis and side.
+    /// the direction's length, a quad's `(u, v)`, a triangle's barycentrics,
+    /// a box's face axis and side (a rect's surface needs only `t`).
     pub data: Vec3,
 }
