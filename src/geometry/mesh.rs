@@ -96,11 +96,13 @@ impl MeshGeometry {
     /// coverage test runs, no surface data is looked up.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let sheared = ShearedRay::new(ray);
+        // Built at the first leaf: most rays that miss never reach one.
+        let mut sheared = None;
         let pos = &self.data.positions;
         self.bvh.traverse_any(ray, t_max, |slot, t_max| {
             let idx = self.slot_triangles[slot];
             sheared
+                .get_or_insert_with(|| ShearedRay::new(ray))
                 .intersect(idx.map(|i| pos[i as usize]), t_min, t_max)
                 .is_some()
         })
@@ -108,16 +110,17 @@ impl MeshGeometry {
 
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
-        let sheared = ShearedRay::new(ray);
+        let mut sheared = None;
         let pos = &self.data.positions;
         let mut best = None;
         self.bvh
             .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+                let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
                 let mut found = None;
                 let lanes = self
                     .leaves
                     .get(first)
-                    .map_or(all_lanes(count), |leaf| leaf.candidates(&sheared));
+                    .map_or(all_lanes(count), |leaf| leaf.candidates(sheared));
                 for slot in slots(first, lanes) {
                     let idx = self.slot_triangles[slot];
                     if let Some(h) = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max) {

@@ -8,7 +8,7 @@
 //! a silhouette vertex or edge may still miss: after rounding it passes
 //! beside the surface without entering it, which is no hole.
 
-use glam::{DVec2, Vec2, Vec3};
+use glam::{DVec2, Vec2, Vec3, Vec3A};
 
 use super::{Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
@@ -42,19 +42,29 @@ pub struct TriangleHit {
 }
 
 impl ShearedRay {
+    /// Built from one-hot axis vectors and one division of three lanes,
+    /// without indexing by the axes (indexing a vector by a computed lane
+    /// went through the stack and stalled on the store). Each row is
+    /// `axis + kz · (−d_axis / d_z)` as before, so the rows are bit for bit
+    /// the indexed construction's.
     pub fn new(ray: &Ray) -> ShearedRay {
-        let kz = ray.dir.abs().max_position();
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if ray.dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        let dz = ray.dir[kz];
-        let unit = |axis: usize, value: f32| [Vec3::X, Vec3::Y, Vec3::Z][axis] * value;
-        let sheared = |axis: usize| unit(axis, 1.0) + unit(kz, -(ray.dir[axis] / dz));
+        let d = ray.dir;
+        let a = d.abs();
+        // The first largest |component|, as `Vec3::max_position` picks it.
+        let y_over_x = a.y > a.x;
+        let z_wins = a.z > if y_over_x { a.y } else { a.x };
+        let y_wins = y_over_x && !z_wins;
+        let one = |b: bool| f32::from(u8::from(b));
+        let ez = Vec3::new(one(!y_wins && !z_wins), one(y_wins), one(z_wins));
+        let ex = Vec3::new(ez.z, ez.x, ez.y);
+        let ey = Vec3::new(ex.z, ex.x, ex.y);
+        // A one-hot dot product is the component itself, exactly.
+        let dz = d.dot(ez);
+        let (ex, ey) = if dz < 0.0 { (ey, ex) } else { (ex, ey) };
+        let q = Vec3A::new(-d.dot(ex), -d.dot(ey), 1.0) / dz;
         ShearedRay {
             origin: ray.origin,
-            rows: [sheared(kx), sheared(ky), unit(kz, 1.0 / dz)],
+            rows: [ex + ez * q.x, ey + ez * q.y, ez * q.z],
         }
     }
 
@@ -171,6 +181,51 @@ impl Triangle {
 mod tests {
     use super::*;
     use crate::geometry::ray::offset_origin;
+
+    /// The rows as first written: the axes found by `max_position` and each
+    /// row built by indexing with them.
+    fn indexed_rows(dir: Vec3) -> [Vec3; 3] {
+        let kz = dir.abs().max_position();
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let unit = |axis: usize, value: f32| [Vec3::X, Vec3::Y, Vec3::Z][axis] * value;
+        let sheared = |axis: usize| unit(axis, 1.0) + unit(kz, -(dir[axis] / dir[kz]));
+        [sheared(kx), sheared(ky), unit(kz, 1.0 / dir[kz])]
+    }
+
+    #[test]
+    fn the_rows_are_bit_for_bit_the_indexed_construction() {
+        let mut next = crate::sampling::rng::numbers(7);
+        let mut dirs: Vec<Vec3> = (0..20_000)
+            .map(|_| Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5))
+            .collect();
+        // Ties between the largest components, signed zeros and the axes.
+        for s in [1.0f32, -1.0] {
+            for (x, y, z) in [
+                (1.0, 1.0, 0.5),
+                (1.0, -1.0, 1.0),
+                (0.5, 1.0, -1.0),
+                (1.0, 1.0, 1.0),
+            ] {
+                dirs.push(Vec3::new(x, y, z) * s);
+            }
+            dirs.extend([Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(-0.0, 0.0, 1.0)].map(|d| d * s));
+        }
+        for dir in dirs {
+            let got = ShearedRay::new(&Ray::new(Vec3::ZERO, dir, 0.0)).rows;
+            let want = indexed_rows(dir);
+            for (g, w) in got.iter().zip(&want) {
+                assert_eq!(
+                    g.to_array().map(f32::to_bits),
+                    w.to_array().map(f32::to_bits),
+                    "{dir}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn hits_interior_misses_outside_and_degenerate() {
