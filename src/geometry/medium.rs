@@ -6,6 +6,8 @@
 
 use std::sync::Arc;
 
+use arrayvec::ArrayVec;
+
 use super::object::Geometry;
 use super::{Aabb, Ray};
 use crate::scene::MaterialId;
@@ -31,48 +33,30 @@ pub struct MediumSegment {
     pub material: MaterialId,
 }
 
-/// The medium segments a query found, in a fixed array (no allocation);
-/// segments past its capacity are dropped, as crossings past
+/// The medium segments a query found, in a fixed-capacity array (no
+/// allocation, and not zero-filled: a query that meets no medium writes
+/// nothing); segments past its capacity are dropped, as crossings past
 /// `MAX_SEGMENTS` always were.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct MediumSegments {
-    items: [MediumSegment; MAX_SEGMENTS],
-    len: usize,
-}
-
-impl Default for MediumSegments {
-    fn default() -> MediumSegments {
-        let unused = MediumSegment {
-            t0: 0.0,
-            t1: 0.0,
-            density: 0.0,
-            material: MaterialId(0),
-        };
-        MediumSegments {
-            items: [unused; MAX_SEGMENTS],
-            len: 0,
-        }
-    }
+    items: ArrayVec<MediumSegment, MAX_SEGMENTS>,
 }
 
 impl MediumSegments {
     #[inline]
     pub fn clear(&mut self) {
-        self.len = 0;
+        self.items.clear();
     }
 
     #[inline]
     fn push(&mut self, s: MediumSegment) {
-        if self.len < MAX_SEGMENTS {
-            self.items[self.len] = s;
-            self.len += 1;
-        }
+        let _ = self.items.try_push(s);
     }
 
     /// The segments found.
     #[inline]
     pub fn as_slice(&self) -> &[MediumSegment] {
-        &self.items[..self.len]
+        &self.items
     }
 }
 
