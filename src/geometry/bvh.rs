@@ -363,6 +363,22 @@ impl Bvh {
         }) {
             let node = &self.nodes[index as usize];
             let (dist, mask) = node.hit(&box_ray, t_max);
+            if HITS[mask] == 1 {
+                // One child (most nodes a coherent ray visits): nothing to order.
+                let lane = FIRST[mask] as usize;
+                let word = node.child[lane];
+                if dist[lane] <= t_max {
+                    if word & LEAF == 0 {
+                        current = Some(word);
+                    } else {
+                        let (first, count) = leaf_range(word);
+                        if let Some(t) = visit(first, count, t_max) {
+                            t_max = t;
+                        }
+                    }
+                }
+                continue;
+            }
             let (order, n) = ordered_hits(dist, mask);
             // Leaves at once, nearest first, so their hits cull what follows.
             for &key in &order[..n] {
