@@ -9,6 +9,7 @@ use std::sync::Arc;
 use arrayvec::ArrayVec;
 
 use super::object::Geometry;
+use super::primitives::Primitive;
 use super::{Aabb, Ray};
 use crate::scene::MaterialId;
 
@@ -71,19 +72,49 @@ impl Medium {
         if self.density <= 0.0 {
             return;
         }
+        let past = |t: f32| step_past(ray, t);
+        match &*self.boundary {
+            // A ball (most media): both roots from one solve, and of each
+            // crossing only its side, not a whole hit.
+            Geometry::Single(Primitive::Sphere(ball), _, _) => {
+                if let Some(roots) = ball.roots(ray) {
+                    self.walk(t_min, t_max, out, past, |t| {
+                        let c = roots.crossing(t, f32::INFINITY)?;
+                        let normal = ball.surface(ray, &c).normal;
+                        Some((c.t, normal.dot(ray.dir) < 0.0))
+                    });
+                }
+            }
+            boundary => self.walk(t_min, t_max, out, past, |t| {
+                let h = boundary.intersect(ray, t, f32::INFINITY)?;
+                Some((h.t, h.front_face))
+            }),
+        }
+    }
+
+    /// The stretches inside the boundary from the crossings `next(t)` finds
+    /// (the first one after `t` and whether the ray enters there), each
+    /// search starting `past(t)` the last crossing.
+    fn walk(
+        &self,
+        t_min: f32,
+        t_max: f32,
+        out: &mut MediumSegments,
+        past: impl Fn(f32) -> f32,
+        mut next: impl FnMut(f32) -> Option<(f32, bool)>,
+    ) {
         let mut t = t_min;
         for _ in 0..MAX_SEGMENTS {
-            let Some(first) = self.boundary.intersect(ray, t, f32::INFINITY) else {
+            let Some((first, enters)) = next(t) else {
                 return;
             };
-            let (entry, exit) = if first.front_face {
-                let after = step_past(ray, first.t);
-                match self.boundary.intersect(ray, after, f32::INFINITY) {
-                    Some(h) => (first.t, h.t),
+            let (entry, exit) = if enters {
+                match next(past(first)) {
+                    Some((exit, _)) => (first, exit),
                     None => return,
                 }
             } else {
-                (t, first.t)
+                (t, first)
             };
             if entry >= t_max {
                 return;
@@ -97,7 +128,7 @@ impl Medium {
             if exit >= t_max {
                 return;
             }
-            t = step_past(ray, exit);
+            t = past(exit);
         }
     }
 }
@@ -107,4 +138,102 @@ impl Medium {
 fn step_past(ray: &Ray, t: f32) -> f32 {
     let scale = ray.at(t).abs().max_element() / ray.dir.length();
     t + (t.abs() + scale) * 1e-5
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::geometry::emitter::LightId;
+    use crate::geometry::primitives::PrimitiveSet;
+    use crate::geometry::shapes::Sphere;
+    use crate::sampling::rng::numbers;
+
+    fn medium(boundary: Geometry) -> Medium {
+        Medium {
+            boundary: Arc::new(boundary),
+            density: 0.5,
+            material: MaterialId(3),
+        }
+    }
+
+    fn found(m: &Medium, ray: &Ray, t_min: f32, t_max: f32) -> Vec<(f32, f32)> {
+        let mut out = MediumSegments::default();
+        m.segments(ray, t_min, t_max, &mut out);
+        out.as_slice().iter().map(|s| (s.t0, s.t1)).collect()
+    }
+
+    #[test]
+    fn a_ball_gives_the_stretch_between_its_crossings() {
+        let ball = Sphere {
+            center: Vec3::new(0.0, 0.0, 10.0),
+            radius: 2.0,
+        };
+        let m = medium(Geometry::Single(
+            Primitive::Sphere(ball),
+            MaterialId(0),
+            LightId::NONE,
+        ));
+        let close = |a: &[(f32, f32)], b: &[(f32, f32)]| {
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b)
+                    .all(|(x, y)| (x.0 - y.0).abs() < 1e-5 && (x.1 - y.1).abs() < 1e-5)
+        };
+        let through = Ray::new(Vec3::ZERO, Vec3::Z, 0.0);
+        assert!(close(
+            &found(&m, &through, 0.0, f32::INFINITY),
+            &[(8.0, 12.0)]
+        ));
+        assert!(close(&found(&m, &through, 0.0, 9.0), &[(8.0, 9.0)]));
+        assert!(found(&m, &through, 0.0, 7.0).is_empty());
+        // From inside: the stretch starts at t_min.
+        assert!(close(
+            &found(&m, &through, 10.0, f32::INFINITY),
+            &[(10.0, 12.0)]
+        ));
+        let beside = Ray::new(Vec3::new(2.5, 0.0, 0.0), Vec3::Z, 0.0);
+        assert!(found(&m, &beside, 0.0, f32::INFINITY).is_empty());
+        let away = Ray::new(Vec3::ZERO, Vec3::NEG_Z, 0.0);
+        assert!(found(&m, &away, 0.0, f32::INFINITY).is_empty());
+    }
+
+    #[test]
+    fn a_ball_alone_gives_bit_for_bit_the_segments_of_the_general_walk() {
+        let mut next = numbers(11);
+        for scale in [1e-3f32, 1.0, 1e5] {
+            let ball = Sphere {
+                center: Vec3::new(1.0, -2.0, 3.0) * scale,
+                radius: 1.5 * scale,
+            };
+            let alone = medium(Geometry::Single(
+                Primitive::Sphere(ball),
+                MaterialId(0),
+                LightId::NONE,
+            ));
+            let set = medium(Geometry::Primitives(PrimitiveSet::new(vec![(
+                Primitive::Sphere(ball),
+                MaterialId(0),
+                LightId::NONE,
+            )])));
+            for _ in 0..4000 {
+                // Origins inside and outside, rays through and beside.
+                let mut v = || Vec3::new(next(), next(), next()) * 2.0 - Vec3::ONE;
+                let (origin, aim) = (v() * 3.0, v() * 1.6);
+                let (origin, aim) = (ball.center + origin * scale, ball.center + aim * scale);
+                let ray = Ray::new(origin, (aim - origin).normalize_or(Vec3::Z), 0.0);
+                let t_max = if next() < 0.5 {
+                    f32::INFINITY
+                } else {
+                    next() * 5.0 * scale
+                };
+                assert_eq!(
+                    found(&alone, &ray, 0.0, t_max),
+                    found(&set, &ray, 0.0, t_max),
+                    "{ray:?} {t_max}"
+                );
+            }
+        }
+    }
 }

@@ -49,19 +49,32 @@ impl Sphere {
     /// direction and the length of the ray's direction.
     #[inline]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        self.roots(ray)?.crossing(t_min, t_max)
+    }
+
+    /// Both roots of the ray's line, after the early miss test of
+    /// [`Sphere::intersect`]; `None` when the line misses.
+    #[inline]
+    pub fn roots(&self, ray: &Ray) -> Option<Roots> {
         let f = ray.origin - self.center;
         let dd = ray.dir.length_squared();
         let r = self.radius;
         if f.cross(ray.dir).length_squared() > (r * r + MISS_MARGIN * f.length_squared()) * dd {
             return None;
         }
-        self.crossing_kept(ray, t_min, t_max)
+        self.roots_kept(ray)
     }
 
     /// [`Sphere::crossing`] for a ray whose line its early miss test kept
     /// (as a four-lane leaf test did): the rest of the test.
     #[inline]
     pub fn crossing_kept(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        self.roots_kept(ray)?.crossing(t_min, t_max)
+    }
+
+    /// Both roots, for a line the early miss test kept.
+    #[inline]
+    fn roots_kept(&self, ray: &Ray) -> Option<Roots> {
         let f = ray.origin - self.center;
         let dd = ray.dir.length_squared();
         let r = self.radius;
@@ -83,18 +96,7 @@ impl Sphere {
         if t0 > t1 {
             std::mem::swap(&mut t0, &mut t1);
         }
-        let (lo, hi) = (t_min * len, t_max * len);
-        let t = if t0 > lo && t0 < hi {
-            t0
-        } else if t1 > lo && t1 < hi {
-            t1
-        } else {
-            return None;
-        };
-        Some(Crossing {
-            t: t / len,
-            data: Vec3::new(t, len, 0.0),
-        })
+        Some(Roots { t0, t1, len })
     }
 
     /// The hit at crossing `c` of `ray`, as [`Sphere::intersect`] has it.
@@ -117,6 +119,35 @@ impl Sphere {
             normal,
             uv: SurfaceUv::Sphere(normal),
         }
+    }
+}
+
+/// Where a ray's line crosses a sphere: the two roots `t0 ≤ t1` as
+/// distances along the unit direction, and the direction's length.
+#[derive(Clone, Copy, Debug)]
+pub struct Roots {
+    t0: f32,
+    t1: f32,
+    len: f32,
+}
+
+impl Roots {
+    /// The nearer root with `t` in `(t_min, t_max)`, as
+    /// [`Sphere::crossing`] gives it.
+    #[inline]
+    pub fn crossing(&self, t_min: f32, t_max: f32) -> Option<Crossing> {
+        let (lo, hi) = (t_min * self.len, t_max * self.len);
+        let t = if self.t0 > lo && self.t0 < hi {
+            self.t0
+        } else if self.t1 > lo && self.t1 < hi {
+            self.t1
+        } else {
+            return None;
+        };
+        Some(Crossing {
+            t: t / self.len,
+            data: Vec3::new(t, self.len, 0.0),
+        })
     }
 }
 
