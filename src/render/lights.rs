@@ -303,6 +303,7 @@ impl LightList {
     /// Samples a light point seen from `p` (surface normal `n`, zero in a
     /// medium); `None` if there is no light or the chosen point emits
     /// nothing towards `p`.
+    #[inline]
     pub fn sample(&self, p: Vec3, n: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
         let last = self.prepared.len().checked_sub(1)?;
         let (i, select) = if last == 0 {
