@@ -3,7 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Crossing, ShapeHit};
+use super::{axis_lane, Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 
@@ -64,20 +64,19 @@ impl Cuboid {
     #[inline]
     pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
         let (t, axis, at_max) = (c.t, c.data.x as usize, c.data.y > 0.0);
-        let mut point = ray.at(t);
-        point[axis] = if at_max {
-            self.max[axis]
+        let on = axis_lane(axis);
+        let (face, side) = if at_max {
+            (self.max, 1.0)
         } else {
-            self.min[axis]
+            (self.min, -1.0)
         };
-        point = point.clamp(self.min, self.max);
-        let mut normal = Vec3::ZERO;
-        normal[axis] = if at_max { 1.0 } else { -1.0 };
+        let point = Vec3::select(on, face, ray.at(t)).clamp(self.min, self.max);
+        let normal = Vec3::select(on, Vec3::splat(side), Vec3::ZERO);
         let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
         let ext = (self.max - self.min).max(Vec3::splat(f32::MIN_POSITIVE));
         // The face coordinate is exact; the others come from `ray.at(t)`.
-        let mut error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
-        error[axis] = 0.0;
+        let error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
+        let error = Vec3::select(on, Vec3::ZERO, error);
         ShapeHit {
             t,
             point,

@@ -12,7 +12,7 @@ pub mod sphere;
 pub mod triangle;
 pub mod turned_sphere;
 
-use glam::Vec3;
+use glam::{BVec3, Vec3};
 
 use super::hit::SurfaceUv;
 
@@ -48,4 +48,12 @@ pub struct Crossing {
     /// the direction's length, a quad's `(u, v)`, a triangle's barycentrics,
     /// a box's face axis and side (a rect's surface needs only `t`).
     pub data: Vec3,
+}
+
+/// The lanes equal to `axis`: for setting a face's coordinate, normal and
+/// error lane by a select. Writing one lane of a vector by a computed index
+/// goes through memory, and reading the vector back stalls on that store.
+#[inline]
+pub fn axis_lane(axis: usize) -> BVec3 {
+    BVec3::new(axis == 0, axis == 1, axis == 2)
 }

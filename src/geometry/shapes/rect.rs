@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Crossing, ShapeHit};
+use super::{axis_lane, Crossing, ShapeHit};
 use crate::geometry::ray::gamma;
 use crate::geometry::{Aabb, Ray};
 use crate::scene::object::RectPlane;
@@ -84,16 +84,16 @@ impl Rect {
     #[inline]
     pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
         let (ax, t) = (self.axis as usize, c.t);
-        let mut point = ray.at(t);
+        let on = axis_lane(ax);
+        let point = ray.at(t);
         let (i, j) = (self.span[0] as usize, self.span[1] as usize);
         let (x, y) = (point[i], point[j]);
-        point[ax] = self.k;
-        let mut normal = Vec3::ZERO;
-        normal[ax] = 1.0;
+        let point = Vec3::select(on, Vec3::splat(self.k), point);
+        let normal = Vec3::select(on, Vec3::ONE, Vec3::ZERO);
         // The coordinate along the normal is exact; the others come from
         // `ray.at(t)` with a rounded `t`.
-        let mut error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
-        error[ax] = 0.0;
+        let error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
+        let error = Vec3::select(on, Vec3::ZERO, error);
         ShapeHit {
             t,
             point,
