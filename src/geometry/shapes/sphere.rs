@@ -149,6 +149,16 @@ impl Roots {
             data: Vec3::new(t, self.len, 0.0),
         })
     }
+
+    /// The first root after `t` (on the ray's scale) and whether it is the
+    /// near one: where the ray's line enters the ball, while the far root is
+    /// where it leaves. This holds for grazing rays too, where the sign of
+    /// a rounded normal against the direction may not.
+    #[inline]
+    pub fn first_after(&self, t: f32) -> Option<(f32, bool)> {
+        let c = self.crossing(t, f32::INFINITY)?;
+        Some((c.t, c.data.x == self.t0))
+    }
 }
 
 /// (u, v) of a unit vector: u the angle about y from −x, v from the south pole.
