@@ -384,7 +384,7 @@ mod tests {
     }
 
     #[test]
-    fn packed_sphere_sets_and_meshes_find_the_brute_force_hit() {
+    fn packed_sphere_sets_and_meshes_find_the_brute_force_hit_and_occluders() {
         let mut r = numbers(3);
         let spheres: Vec<Sphere> = (0..300)
             .map(|_| Sphere {
@@ -424,6 +424,13 @@ mod tests {
             let from = Vec3::new(r(), r(), r()) * 80.0 - 20.0 + Vec3::splat(1e4);
             let to = Vec3::new(r(), r(), r()) * 40.0 + Vec3::splat(1e4);
             let ray = Ray::new(from, to - from, 0.0);
+            // Shadow rays: anything before a random end, or before none.
+            for t_max in [f32::INFINITY, 1.5 * r()] {
+                let any =
+                    |ps: &[Primitive]| ps.iter().any(|p| p.intersect(&ray, 1e-4, t_max).is_some());
+                assert_eq!(set.occluded(&ray, 1e-4, t_max), any(&prims));
+                assert_eq!(mesh.occluded(&ray, 1e-4, t_max), any(&tri_prims));
+            }
             let want = brute_force(&prims, &ray);
             let got = set.intersect(&ray, 1e-4, f32::INFINITY).map(|h| h.0);
             assert_eq!(got.is_some(), want.is_some());
