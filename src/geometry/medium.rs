@@ -72,7 +72,6 @@ impl Medium {
         if self.density <= 0.0 {
             return;
         }
-        let past = |t: f32| step_past(ray, t);
         match &*self.boundary {
             // A ball (most media): both roots from one solve; the ray enters
             // at the near root (the far one for a negative radius, whose
@@ -80,28 +79,28 @@ impl Medium {
             Geometry::Single(Primitive::Sphere(ball), _, _) => {
                 if let Some(roots) = ball.roots(ray) {
                     let outward = ball.radius > 0.0;
-                    self.walk(t_min, t_max, out, past, |t| {
+                    self.walk(ray, t_min, t_max, out, |t| {
                         let (at, near) = roots.first_after(t)?;
                         Some((at, near == outward))
                     });
                 }
             }
-            boundary => self.walk(t_min, t_max, out, past, |t| {
+            boundary => self.walk(ray, t_min, t_max, out, |t| {
                 let h = boundary.intersect(ray, t, f32::INFINITY)?;
                 Some((h.t, h.front_face))
             }),
         }
     }
 
-    /// The stretches inside the boundary from the crossings `next(t)` finds
-    /// (the first one after `t` and whether the ray enters there), each
-    /// search starting `past(t)` the last crossing.
+    /// The stretches of `ray` inside the boundary from the crossings
+    /// `next(t)` finds (the first one after `t` and whether the ray enters
+    /// there), each search starting just past the last crossing.
     fn walk(
         &self,
+        ray: &Ray,
         t_min: f32,
         t_max: f32,
         out: &mut MediumSegments,
-        past: impl Fn(f32) -> f32,
         mut next: impl FnMut(f32) -> Option<(f32, bool)>,
     ) {
         let mut t = t_min;
@@ -110,7 +109,7 @@ impl Medium {
                 return;
             };
             let (entry, exit) = if enters {
-                match next(past(first)) {
+                match next(step_past(ray, first)) {
                     Some((exit, _)) => (first, exit),
                     None => return,
                 }
@@ -129,7 +128,7 @@ impl Medium {
             if exit >= t_max {
                 return;
             }
-            t = past(exit);
+            t = step_past(ray, exit);
         }
     }
 }
