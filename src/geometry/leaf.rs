@@ -3,15 +3,16 @@
 //! cheap rejecting part of four primitive tests at once. The pass is the
 //! scalar test's own arithmetic, operation for operation and in the same
 //! order (no fused multiply-add, as the scalar code has none), so a lane it
-//! rejects is one the scalar test would reject; the lanes it keeps go
-//! through the rest of the scalar test (a sphere's) or all of it (a
-//! triangle's) in slot order, which decides the hit exactly as before, bit
-//! for bit, ties included.
+//! rejects is one the scalar test would reject. A sphere leaf then finds
+//! the roots of all four lanes the same way, and the kept lanes choose
+//! their root in slot order; a triangle leaf's kept lanes run the whole
+//! scalar test in slot order. Either decides the hit exactly as the scalar
+//! tests do, bit for bit, ties included.
 
 use glam::Vec3;
 use wide::{f32x4, CmpEq, CmpGt, CmpLt};
 
-use super::shapes::sphere::MISS_MARGIN;
+use super::shapes::sphere::{Roots, MISS_MARGIN};
 use super::shapes::triangle::ShearedRay;
 use super::shapes::Sphere;
 use super::{Bvh, Ray};
@@ -136,6 +137,30 @@ impl SphereLeaf {
         let bound = (r * r + f32x4::splat(MISS_MARGIN) * f2) * dd;
         let rejected = cross2.cmp_gt(bound).move_mask() as u32;
         !rejected & self.used
+    }
+
+    /// Both roots of each lane's sphere as [`Sphere::roots`] finds them
+    /// after its early miss test (`None` where the line misses), four
+    /// lanes at once: the square roots and divisions of the kept lanes run
+    /// side by side instead of one chain after another.
+    #[inline]
+    pub fn roots(&self, ray: &Ray) -> [Option<Roots>; LANES] {
+        let len = ray.dir.length_squared().sqrt();
+        let [dx, dy, dz] = (ray.dir / len).to_array().map(f32x4::splat);
+        let [fx, fy, fz] = [0, 1, 2].map(|a| f32x4::splat(ray.origin[a]) - self.center[a]);
+        // `f.dot(d)`, `f − b·d` and the lengths as glam writes them.
+        let b = fx * dx + fy * dy + fz * dz;
+        let (px, py, pz) = (fx - b * dx, fy - b * dy, fz - b * dz);
+        let perp = (px * px + py * py + pz * pz).sqrt();
+        let r = self.radius;
+        let disc = (r - perp) * (r + perp);
+        // `b.signum()`: ±1 by the sign bit (a NaN `b` makes `q` NaN anyway).
+        let sign = (b & f32x4::splat(-0.0)) | f32x4::ONE;
+        let q = -b - sign * disc.sqrt();
+        let fl = (fx * fx + fy * fy + fz * fz).sqrt();
+        let c = (fl - r) * (fl + r);
+        let (disc, q, c) = (disc.to_array(), q.to_array(), c.to_array());
+        std::array::from_fn(|i| (!(disc[i] < 0.0)).then(|| Roots::from_quadratic(c[i], q[i], len)))
     }
 }
 
@@ -297,12 +322,13 @@ mod tests {
             for ray in sphere_rays(&spheres, &mut r) {
                 let lanes = leaf.candidates(&ray);
                 assert_eq!(lanes & !all_lanes(count), 0);
+                let roots = leaf.roots(&ray);
                 let (scalar, packed, k) = scalar_and_kept(
                     count,
                     lanes,
                     |c: &Crossing| c.t,
                     |i, t_max| spheres[i].crossing(&ray, 1e-4, t_max),
-                    |i, t_max| spheres[i].crossing_kept(&ray, 1e-4, t_max),
+                    |i, t_max| roots[i].and_then(|r| r.crossing(1e-4, t_max)),
                 );
                 kept += k;
                 assert_eq!(packed, scalar);

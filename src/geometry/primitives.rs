@@ -69,17 +69,6 @@ impl Primitive {
         }
     }
 
-    /// [`Primitive::crossing`] of a (turned) sphere whose early miss test
-    /// a four-lane leaf test passed ([`Sphere::crossing_kept`]).
-    #[inline]
-    fn sphere_crossing_kept(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
-        match self {
-            Primitive::Sphere(s) => s.crossing_kept(ray, t_min, t_max),
-            Primitive::TurnedSphere(s) => s.sphere.crossing_kept(ray, t_min, t_max),
-            _ => self.crossing(ray, t_min, t_max),
-        }
-    }
-
     /// The hit at a crossing this primitive gave for `ray`.
     #[inline]
     pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
@@ -163,9 +152,14 @@ impl PrimitiveSet {
                     (*t_max, found) = (c.t, Some(c.t));
                 };
                 if let Some(leaf) = self.spheres.get(first) {
-                    for slot in slots(first, leaf.candidates(ray)) {
-                        if let Some(c) = self.prims[slot].sphere_crossing_kept(ray, t_min, t_max) {
-                            keep(slot, c, &mut t_max);
+                    let lanes = leaf.candidates(ray);
+                    if lanes != 0 {
+                        let roots = leaf.roots(ray);
+                        for slot in slots(first, lanes) {
+                            let c = roots[slot - first].and_then(|r| r.crossing(t_min, t_max));
+                            if let Some(c) = c {
+                                keep(slot, c, &mut t_max);
+                            }
                         }
                     }
                 } else {

@@ -62,22 +62,6 @@ impl Sphere {
         if f.cross(ray.dir).length_squared() > (r * r + MISS_MARGIN * f.length_squared()) * dd {
             return None;
         }
-        self.roots_kept(ray)
-    }
-
-    /// [`Sphere::crossing`] for a ray whose line its early miss test kept
-    /// (as a four-lane leaf test did): the rest of the test.
-    #[inline]
-    pub fn crossing_kept(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
-        self.roots_kept(ray)?.crossing(t_min, t_max)
-    }
-
-    /// Both roots, for a line the early miss test kept.
-    #[inline]
-    fn roots_kept(&self, ray: &Ray) -> Option<Roots> {
-        let f = ray.origin - self.center;
-        let dd = ray.dir.length_squared();
-        let r = self.radius;
         let len = dd.sqrt();
         let d = ray.dir / len;
         let b = f.dot(d);
@@ -88,15 +72,7 @@ impl Sphere {
         }
         let q = -b - b.signum() * disc.sqrt();
         let fl = f.length();
-        let c = (fl - r) * (fl + r);
-        let (mut t0, mut t1) = (c / q, q);
-        if q == 0.0 {
-            (t0, t1) = (0.0, 0.0);
-        }
-        if t0 > t1 {
-            std::mem::swap(&mut t0, &mut t1);
-        }
-        Some(Roots { t0, t1, len })
+        Some(Roots::from_quadratic((fl - r) * (fl + r), q, len))
     }
 
     /// The hit at crossing `c` of `ray`, as [`Sphere::intersect`] has it.
@@ -132,6 +108,20 @@ pub struct Roots {
 }
 
 impl Roots {
+    /// The roots `c / q` and `q` of the stable quadratic (both 0 when `q`
+    /// is), in order.
+    #[inline]
+    pub fn from_quadratic(c: f32, q: f32, len: f32) -> Roots {
+        let (mut t0, mut t1) = (c / q, q);
+        if q == 0.0 {
+            (t0, t1) = (0.0, 0.0);
+        }
+        if t0 > t1 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        Roots { t0, t1, len }
+    }
+
     /// The nearer root with `t` in `(t_min, t_max)`, as
     /// [`Sphere::crossing`] gives it.
     #[inline]
