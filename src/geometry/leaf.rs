@@ -160,7 +160,13 @@ impl SphereLeaf {
         let fl = (fx * fx + fy * fy + fz * fz).sqrt();
         let c = (fl - r) * (fl + r);
         let (disc, q, c) = (disc.to_array(), q.to_array(), c.to_array());
-        std::array::from_fn(|i| (!(disc[i] < 0.0)).then(|| Roots::from_quadratic(c[i], q[i], len)))
+        std::array::from_fn(|i| {
+            if disc[i] < 0.0 {
+                None
+            } else {
+                Some(Roots::from_quadratic(c[i], q[i], len))
+            }
+        })
     }
 }
 
