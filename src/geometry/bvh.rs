@@ -364,7 +364,10 @@ impl Bvh {
             let node = &self.nodes[index as usize];
             let (dist, mask) = node.hit(&box_ray, t_max);
             if HITS[mask] == 1 {
-                // One child (most nodes a coherent ray visits): nothing to order.
+                // One child (most nodes a coherent ray visits): nothing to
+                // order. (Sending it through the loop below instead, so that
+                // `visit` has one call site, cost Cornell 3 % more
+                // instructions.)
                 let lane = FIRST[mask] as usize;
                 let word = node.child[lane];
                 if dist[lane] <= t_max {

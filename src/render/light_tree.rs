@@ -337,6 +337,7 @@ impl LightTree {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::rng::numbers;
 
     /// A small downward lamp at `c` of power `power`.
     fn lamp(c: DVec3, power: f64) -> LightBounds {
@@ -451,8 +452,7 @@ mod tests {
     /// The one-child-at-a-time formula the lanes of [`Pair::importance`]
     /// must reproduce bit for bit (the form it had before it was written in
     /// `f64x2`).
-    fn scalar_importance(pair: &Pair, p: DVec3, n: DVec3) -> Lanes {
-        let this = pair;
+    fn scalar_importance(this: &Pair, p: DVec3, n: DVec3) -> Lanes {
         let r2 = this.r2;
         let to = xyz(|j| lanes(|k| p[j] - this.centre[j][k]));
         let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
@@ -531,13 +531,8 @@ mod tests {
     /// on a centre) with random and zero normals.
     #[test]
     fn both_lanes_are_the_scalar_formula_bit_for_bit() {
-        let mut state = 0x1234_5678_9abc_def0u64;
-        let mut r = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = numbers(0x1234);
+        let mut r = move || f64::from(next());
         let v =
             |r: &mut dyn FnMut() -> f64, s: f64| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * s;
         let mut checked = [0usize; 3];
