@@ -131,13 +131,19 @@ def main():
     rng = np.random.default_rng(1)
     cam_rays = camera_rays(cam, args.spp, rng)
     rnd_rays = random_rays(verts.min(0), verts.max(0), args.random, rng)
-    embree(scene, cam_rays)  # commits the scene (BVH build) outside the timing
+    compare(args.rtlang, args.scene, args.spp, args.rounds, scene, len(tris), cam_rays, rnd_rays)
 
-    print(f"{len(tris)} triangles, {len(cam_rays[0])} camera rays, {args.random} random rays, 1 thread")
+
+def compare(binary, rt, spp, rounds, scene, triangle_count, cam_rays, rnd_rays):
+    """Alternates `rtlang bench` on `rt` with Embree on the same rays for
+    `rounds` rounds, and prints every round, the medians and their ratios."""
+    embree(scene, cam_rays)  # commits the scene (BVH build) outside the timing
+    count = len(rnd_rays[0])
+    print(f"{triangle_count} triangles, {len(cam_rays[0])} camera rays, {count} random rays, 1 thread")
     print("| round | rtlang camera | Embree camera | rtlang random | Embree random |  (M rays/s, % hit)")
     rows = []
-    for k in range(args.rounds):
-        (rc, rch), (rr, rrh) = rtlang(args.rtlang, args.scene, args.spp, args.random)
+    for k in range(rounds):
+        (rc, rch), (rr, rrh) = rtlang(binary, rt, spp, count)
         ec, ech = embree(scene, cam_rays)
         er, erh = embree(scene, rnd_rays)
         rows.append((rc, ec, rr, er))
