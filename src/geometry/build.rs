@@ -313,11 +313,7 @@ impl Builder<'_> {
             } => {
                 let inner =
                     self.instance(std::iter::once(&**boundary), &at.with(Emitting::Hidden))?;
-                let medium = Medium {
-                    boundary: self.unplaced(inner),
-                    density: *density,
-                    material: *material,
-                };
+                let medium = Medium::new(self.unplaced(inner), *density, *material);
                 items.push(self.placed(Geometry::Medium(medium), Placement::Identity));
             }
             Node::Instance(id) => items.push(self.prototype(*id, at)?),

@@ -34,7 +34,7 @@ impl Primitive {
     }
 
     /// The sphere a (turned) sphere is intersected as.
-    fn sphere(&self) -> Option<Sphere> {
+    pub fn sphere(&self) -> Option<Sphere> {
         match self {
             Primitive::Sphere(s) => Some(*s),
             Primitive::TurnedSphere(s) => Some(s.sphere),
