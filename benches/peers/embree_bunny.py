@@ -40,20 +40,21 @@ def load_obj(path):
 
 
 def scene_settings(rt):
-    """Camera, size and mesh path of an rtlang scene written like bunny.rt."""
+    """Camera, size and (if it names one as bunny.rt does) mesh path of an
+    rtlang scene: the first `from`, `at`, `up`, `fov` and `size` in it."""
     text = rt.read_text()
     vec = lambda key: np.array(
         [float(x) for x in re.search(key + r"\s*\(([^)]*)\)", text).group(1).split(",")]
     )
     size = re.search(r"size\s+(\d+)\s*x\s*(\d+)", text)
-    mesh = re.search(r'param bunny\s*=\s*"([^"]+)"', text).group(1)
+    mesh = re.search(r'param bunny\s*=\s*"([^"]+)"', text)
     return {
         "from": vec(r"\bfrom"),
         "at": vec(r"\bat"),
         "up": vec(r"\bup"),
         "fov": float(re.search(r"\bfov\s+([\d.]+)", text).group(1)),
         "size": (int(size.group(1)), int(size.group(2))),
-        "mesh": (rt.parent / mesh).resolve(),
+        "mesh": mesh and (rt.parent / mesh.group(1)).resolve(),
     }
 
 

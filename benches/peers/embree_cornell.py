@@ -15,10 +15,11 @@ import numpy as np
 from embreex import rtcore_scene as rtcs
 from embreex.mesh_construction import TriangleMesh
 
-from embree_bunny import camera_rays, compare, random_rays
+from embree_bunny import camera_rays, compare, random_rays, scene_settings
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
+CORNELL = ROOT / "scenes/cornell.rt"
 SIDE = 555.0
 
 
@@ -59,7 +60,7 @@ def triangles(quads):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rtlang", default=str(ROOT / "target/release/rtlang"))
-    ap.add_argument("--spp", type=int, default=4, help="camera rays per pixel of the 600² frame")
+    ap.add_argument("--spp", type=int, default=4, help="camera rays per pixel of the scene's frame")
     ap.add_argument("--random", type=int, default=1_000_000, help="random rays per round")
     ap.add_argument("--rounds", type=int, default=5)
     args = ap.parse_args()
@@ -67,17 +68,11 @@ def main():
     verts, tris = triangles(cornell_quads())
     scene = rtcs.EmbreeScene()
     TriangleMesh(scene, verts, tris)
-    cam = {
-        "from": np.array([278.0, 278, -800]),
-        "at": np.array([278.0, 278, 0]),
-        "up": np.array([0.0, 1, 0]),
-        "fov": 40.0,
-        "size": (600, 600),
-    }
+    cam = scene_settings(CORNELL)
     rng = np.random.default_rng(1)
     cam_rays = camera_rays(cam, args.spp, rng)
     rnd_rays = random_rays(verts.min(0), verts.max(0), args.random, rng)
-    compare(args.rtlang, ROOT / "scenes/cornell.rt", args.spp, args.rounds, scene, len(tris),
+    compare(args.rtlang, CORNELL, args.spp, args.rounds, scene, len(tris),
             cam_rays, rnd_rays)
 
 
