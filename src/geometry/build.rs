@@ -43,6 +43,9 @@ pub enum BuildError {
 /// The whole scene's geometry, ready to intersect.
 pub struct World {
     root: Instance,
+    /// The root places its geometry as is, with light ids from the base:
+    /// rays go to the geometry without the instance's steps.
+    direct: bool,
     revolutions: Vec<Arc<RevolutionSurface>>,
     emitters: Emitters,
 }
@@ -60,6 +63,7 @@ impl World {
         };
         let root = b.instance(scene.objects.iter(), &At::WORLD)?;
         Ok(World {
+            direct: matches!(root.placement, Placement::Identity) && root.lights == LightId::BASE,
             root,
             revolutions: b.revolutions,
             emitters: Emitters::finish(scene, &b.placed),
@@ -89,6 +93,12 @@ impl World {
         media: &mut MediumSegments,
     ) -> Option<Hit> {
         media.clear();
+        if self.direct {
+            return self
+                .root
+                .geometry
+                .intersect_in_media(ray, t_min, t_max, media);
+        }
         self.root.intersect(ray, t_min, t_max, media)
     }
 
@@ -98,6 +108,9 @@ impl World {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         media.clear();
+        if self.direct {
+            return self.root.geometry.occluded(ray, t_min, t_max, media);
+        }
         self.root.occluded(ray, t_min, t_max, media)
     }
 
@@ -509,6 +522,39 @@ mod tests {
             LightShape::Sphere { center, .. } => Some(center),
             _ => None,
         }
+    }
+
+    /// A world of one placed prototype has that placement as its root,
+    /// which rays and shadow rays must go through: the ball is found where
+    /// it was moved to, not where its prototype has it.
+    #[test]
+    fn a_root_placed_by_a_transform_is_intersected_where_it_stands() {
+        let (mut scene, light) = lit();
+        scene.prototypes.push(Node::Shape {
+            shape: Shape::Sphere {
+                center: Vec3::ZERO,
+                radius: 0.5,
+            },
+            material: light,
+        });
+        scene.objects = vec![moved(10.0, 0.0, Node::Instance(ProtoId(0)))];
+        let world = World::build(&scene).expect("builds");
+        assert!(!world.direct);
+        assert_eq!(
+            centre(emitter_below(&world, 10.0, 0.0)),
+            Some(Vec3::new(10.0, 0.0, 0.0))
+        );
+        assert!(emitter_below(&world, 0.0, 0.0).is_none());
+        let down = |x: f32| Ray::new(Vec3::new(x, 50.0, 0.0), Vec3::NEG_Y, 0.0);
+        let mut media = MediumSegments::default();
+        assert!(world.occluded(&down(10.0), 0.0, 100.0, &mut media));
+        assert!(!world.occluded(&down(0.0), 0.0, 100.0, &mut media));
+        // The prototype placed without a transform: the root is its geometry.
+        scene.objects = vec![Node::Instance(ProtoId(0))];
+        let world = World::build(&scene).expect("builds");
+        assert!(world.direct);
+        assert_eq!(centre(emitter_below(&world, 0.0, 0.0)), Some(Vec3::ZERO));
+        assert!(world.occluded(&down(0.0), 0.0, 100.0, &mut media));
     }
 
     /// A prototype's geometry is built once and shared, yet each placement
