@@ -42,10 +42,9 @@ pub enum BuildError {
 
 /// The whole scene's geometry, ready to intersect.
 pub struct World {
-    root: Instance,
-    /// The root places its geometry as is, with light ids from the base:
-    /// rays go to the geometry without the instance's steps.
-    direct: bool,
+    root: Root,
+    /// The box around every object (infinite when a plane is in it).
+    bounds: Aabb,
     revolutions: Vec<Arc<RevolutionSurface>>,
     emitters: Emitters,
 }
@@ -63,8 +62,8 @@ impl World {
         };
         let root = b.instance(scene.objects.iter(), &At::WORLD)?;
         Ok(World {
-            direct: matches!(root.placement, Placement::Identity) && root.lights == LightId::BASE,
-            root,
+            bounds: root.bounds,
+            root: Root::new(root),
             revolutions: b.revolutions,
             emitters: Emitters::finish(scene, &b.placed),
         })
@@ -93,13 +92,10 @@ impl World {
         media: &mut MediumSegments,
     ) -> Option<Hit> {
         media.clear();
-        if self.direct {
-            return self
-                .root
-                .geometry
-                .intersect_in_media(ray, t_min, t_max, media);
+        match &self.root {
+            Root::Bare(geometry) => geometry.intersect_in_media(ray, t_min, t_max, media),
+            Root::Placed(instance) => instance.intersect(ray, t_min, t_max, media),
         }
-        self.root.intersect(ray, t_min, t_max, media)
     }
 
     /// Whether a surface is hit with `t` in `(t_min, t_max)` (a shadow
@@ -108,21 +104,38 @@ impl World {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         media.clear();
-        if self.direct {
-            return self.root.geometry.occluded(ray, t_min, t_max, media);
+        match &self.root {
+            Root::Bare(geometry) => geometry.occluded(ray, t_min, t_max, media),
+            Root::Placed(instance) => instance.occluded(ray, t_min, t_max, media),
         }
-        self.root.occluded(ray, t_min, t_max, media)
     }
 
     /// The box around every object (infinite when a plane is in it).
     pub fn bounds(&self) -> Aabb {
-        self.root.bounds
+        self.bounds
     }
 
     /// Intersections that neither Newton nor its fallback could verify,
     /// over all analytic surfaces of revolution so far.
     pub fn newton_failures(&self) -> u64 {
         self.revolutions.iter().map(|r| r.newton_failures()).sum()
+    }
+}
+
+/// What a ray meets first: the scene's geometry itself when the root
+/// instance places it as is (most scenes), so that rays skip the
+/// instance's steps; otherwise that instance.
+enum Root {
+    Bare(Arc<Geometry>),
+    Placed(Instance),
+}
+
+impl Root {
+    fn new(root: Instance) -> Root {
+        match root.placement {
+            Placement::Identity if root.lights == LightId::BASE => Root::Bare(root.geometry),
+            _ => Root::Placed(root),
+        }
     }
 }
 
@@ -539,7 +552,7 @@ mod tests {
         });
         scene.objects = vec![moved(10.0, 0.0, Node::Instance(ProtoId(0)))];
         let world = World::build(&scene).expect("builds");
-        assert!(!world.direct);
+        assert!(matches!(world.root, Root::Placed(_)));
         assert_eq!(
             centre(emitter_below(&world, 10.0, 0.0)),
             Some(Vec3::new(10.0, 0.0, 0.0))
@@ -552,7 +565,7 @@ mod tests {
         // The prototype placed without a transform: the root is its geometry.
         scene.objects = vec![Node::Instance(ProtoId(0))];
         let world = World::build(&scene).expect("builds");
-        assert!(world.direct);
+        assert!(matches!(world.root, Root::Bare(_)));
         assert_eq!(centre(emitter_below(&world, 0.0, 0.0)), Some(Vec3::ZERO));
         assert!(world.occluded(&down(0.0), 0.0, 100.0, &mut media));
     }
