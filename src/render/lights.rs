@@ -22,6 +22,7 @@ pub use crate::geometry::emitter::LightShape;
 use crate::geometry::emitter::{Emitters, LightId};
 use crate::geometry::ray::{gamma, SurfacePoint};
 use crate::geometry::World;
+use crate::sampling::warp::sin_cos_turn;
 use crate::sampling::Sampler;
 use crate::scene::{Material, MaterialId, Scene, Texture};
 
@@ -466,7 +467,7 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option
     let Some(extent) = cone_extent(center, radius, p) else {
         let z = 1.0 - 2.0 * u1;
         let r = (1.0 - z * z).max(0.0).sqrt();
-        let (s, c) = (TAU * u2).sin_cos();
+        let (s, c) = sin_cos_turn(u2);
         let x = center + radius * Vec3::new(r * c, r * s, z);
         let pdf = area_to_solid_angle(sphere_area(radius).recip(), p, x, (x - center) / radius)?;
         return Some((x, pdf));
@@ -476,7 +477,7 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option
     let cos = 1.0 - one_minus_cos;
     let sin = (one_minus_cos * (2.0 - one_minus_cos)).max(0.0).sqrt();
     let (t, b) = axis.any_orthonormal_pair();
-    let (s, c) = (TAU * u2).sin_cos();
+    let (s, c) = sin_cos_turn(u2);
     let dir = sin * c * t + sin * s * b + cos * axis;
     let oc = p - center;
     let half_b = oc.dot(dir);

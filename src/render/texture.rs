@@ -24,10 +24,7 @@ pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3
                 space,
             } => {
                 let is_even = match space {
-                    CheckerSpace::Solid => {
-                        let s = *scale * p;
-                        s.x.sin() * s.y.sin() * s.z.sin() >= 0.0
-                    }
+                    CheckerSpace::Solid => solid_checker_is_even(*scale * p),
                     CheckerSpace::Uv => {
                         let s = *scale * uv.get();
                         (s.x.floor() + s.y.floor()).rem_euclid(2.0) == 0.0
@@ -43,6 +40,16 @@ pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3
         }
     }
     Vec3::ZERO
+}
+
+/// Whether `sin x · sin y · sin z ≥ 0` (the solid checker's even cells),
+/// without the sines: `sin x < 0` exactly where `⌊x/π⌋` is odd, so the
+/// product is negative where the three floors add up to an odd number; a
+/// zero factor makes it zero, which is even.
+fn solid_checker_is_even(s: Vec3) -> bool {
+    let half_turns = (s / std::f32::consts::PI).floor();
+    let parity = half_turns.x as i64 + half_turns.y as i64 + half_turns.z as i64;
+    s.cmpeq(Vec3::ZERO).any() || parity & 1 == 0
 }
 
 /// Bilinear lookup with u wrapping around and v clamped; v = 1 is the top row.
@@ -134,6 +141,29 @@ mod tests {
             lookup(&scene, c, Vec2::ZERO.into(), Vec3::new(-0.1, 0.1, 0.1)),
             Vec3::ZERO
         );
+    }
+
+    /// The parity rule agrees with the sine product wherever no sine is
+    /// within rounding of zero, over 200 000 points up to 1e3 from the
+    /// origin, and counts a zero coordinate (a floor at y = 0) as even.
+    #[test]
+    fn the_parity_of_the_half_turns_is_the_sign_of_the_sine_product() {
+        let mut r = crate::sampling::rng::numbers(3);
+        let mut checked = 0;
+        for k in 0..200_000 {
+            let scale = [1.0, 30.0, 1e3][k % 3];
+            let s = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 2.0 * scale;
+            let sines = [s.x.sin(), s.y.sin(), s.z.sin()];
+            if sines.iter().any(|v| v.abs() < 1e-3) {
+                continue;
+            }
+            let product = sines[0] * sines[1] * sines[2];
+            assert_eq!(solid_checker_is_even(s), product >= 0.0, "{s}");
+            checked += 1;
+        }
+        assert!(checked > 190_000, "{checked}");
+        assert!(solid_checker_is_even(Vec3::new(-1.0, 0.0, 2.0)));
+        assert!(solid_checker_is_even(Vec3::new(-1.0, -0.0, -2.0)));
     }
 
     #[test]
