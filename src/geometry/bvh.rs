@@ -855,10 +855,11 @@ mod tests {
     }
 
     /// The AVX box test gives the SSE one's distances and masks bit for bit,
-    /// and the two walks visit the same leaves in the same order, for rays
-    /// from anywhere (among them axis-parallel rays starting on a box's
-    /// face, whose slab distances are NaN, and rays through a box's corner,
-    /// which only the rounding allowance keeps) at boxes from 1e-3 to 1e4.
+    /// and the AVX walks (closest and any hit) visit the same leaves in the
+    /// same order as the SSE walks, for rays from anywhere (among them
+    /// axis-parallel rays starting on a box's face, whose slab distances are
+    /// NaN, and rays through a box's corner, which only the rounding
+    /// allowance keeps) at boxes from 1e-3 to 1e4.
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn the_avx_walk_is_the_sse_walk_bit_for_bit() {
@@ -915,6 +916,23 @@ mod tests {
                     seen
                 };
                 assert_eq!(visits(true), visits(false));
+                let any = |use_avx: bool, t_max: f32| {
+                    let mut seen = Vec::new();
+                    let hit = |slot: usize, _| {
+                        seen.push(slot);
+                        slot.is_multiple_of(7)
+                    };
+                    let found = if use_avx {
+                        // SAFETY: as above.
+                        unsafe { bvh.walk_any_avx(&ray, t_max, hit) }
+                    } else {
+                        bvh.walk_any::<false>(&ray, t_max, hit)
+                    };
+                    (found, seen)
+                };
+                for t_max in [f32::INFINITY, 5.0 * scale] {
+                    assert_eq!(any(true, t_max), any(false, t_max));
+                }
             }
         }
     }
