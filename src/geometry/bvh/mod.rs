@@ -1,51 +1,37 @@
-//! A bounding volume hierarchy built with the binned surface-area heuristic
-//! as a binary tree, then collapsed into an 8-wide tree whose nodes hold their
-//! children's boxes as lanes (structure of arrays), so one node visit tests
-//! eight boxes at once. It is traversed iteratively with a fixed-size stack of
-//! inner nodes, nearest child first (visited next without a push), leaves
-//! visited as soon as their box is hit, entries farther than the closest hit
-//! so far skipped, without allocation.
-//!
-//! The eight-lane box test runs as one AVX pass where the CPU has AVX
-//! (detected at run time; the walks are compiled twice, once with AVX
-//! enabled) and as two SSE passes of `wide`'s `f32x4` elsewhere. Both do the
-//! same IEEE operations per lane (subtract, multiply, minimum, maximum and
-//! compare, no fused multiply-add), so they give the same answers bit for
-//! bit and an image does not depend on the CPU it was rendered on. The
-//! children hit are ordered by insertion of their keys, and the stack is an
-//! `ArrayVec` that is not zero-filled per ray.
+//! A bounding volume hierarchy: a binary tree built with the binned
+//! surface-area heuristic ([`sah`]), collapsed into an 8-wide tree whose
+//! nodes hold their children's boxes as lanes, so one node visit tests eight
+//! boxes at once ([`node`]: one AVX pass where the CPU has it, two SSE passes
+//! elsewhere, the same bits either way). It is traversed iteratively with a
+//! fixed-size stack of inner nodes, nearest child first (visited next
+//! without a push), leaves visited as soon as their box is hit, entries
+//! farther than the closest hit so far skipped, without allocation. Each
+//! walk is compiled twice, once with AVX enabled, and picked per call by a
+//! cached CPU check. The children hit are ordered by inserting their keys,
+//! and the stack is an `ArrayVec` that is not zero-filled per ray.
 //!
 //! The hierarchy knows only boxes: the caller reorders its primitives by the
 //! permutation [`Bvh::build`] returns and intersects them in a visitor closure,
 //! a slot or a leaf at a time; it tells the builder whether its leaves are
 //! tested one primitive at a time or four at once ([`Leaves`]).
 
+mod node;
+mod sah;
+
 use arrayvec::ArrayVec;
-use glam::Vec3;
-use wide::{f32x4, CmpLe};
 
 use super::{Aabb, Ray};
+use node::{avx, node_hit, BoxRay, BvhNode, WIDTH};
+use sah::BinaryNode;
 
-/// Number of centroid bins per axis when searching for a split.
-const BINS: usize = 12;
-/// Largest number of primitives a leaf may hold (at most 4: the leaf
-/// encoding keeps `count - 1` in two bits).
-const MAX_LEAF: usize = 4;
 /// Depth of the traversal stack: a node pushes at most 7 more entries than
 /// it pops, and an 8-wide level stands for three binary SAH levels.
 const STACK: usize = 128;
-/// Relative cost of a box test against a primitive test.
-const TRAVERSAL_COST: f32 = 0.5;
-/// Children per wide node.
-const WIDTH: usize = 8;
 /// A child word with this bit is a leaf: bits 29–30 hold `count - 1`, the
 /// low 29 bits its first primitive slot. Otherwise it is a node index.
 const LEAF: u32 = 1 << 31;
 /// Slots a leaf's first primitive can address (2^29, far beyond memory).
 const SLOT_MASK: u32 = (1 << 29) - 1;
-/// The factor absorbing the rounding of the slab distances (robust
-/// traversal, Ize 2013), so rays grazing a box edge are not lost.
-const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
 
 /// How the primitives of a leaf are tested, which sets what a leaf costs
 /// the surface-area heuristic.
@@ -58,176 +44,11 @@ pub enum Leaves {
     Packed,
 }
 
-/// One node of the binary tree the builder makes: its box, and either two
-/// children (`count == 0`: the left child follows this node, the right one
-/// is at `offset`) or a leaf of `count` primitives starting at `offset`.
-#[derive(Clone, Copy, Debug)]
-struct BinaryNode {
-    bounds: Aabb,
-    offset: u32,
-    count: u32,
-}
-
-/// One wide node: per axis the lower and upper bounds of its eight children
-/// (`bounds[2 * axis]` lower, `bounds[2 * axis + 1]` upper; an unused lane is
-/// an empty box, which no ray enters), and each child's word (see [`LEAF`]).
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-pub struct BvhNode {
-    bounds: [[f32; WIDTH]; 6],
-    child: [u32; WIDTH],
-}
-
 /// The hierarchy: wide nodes (root first) and the box around everything.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     nodes: Vec<BvhNode>,
     bounds: Aabb,
-}
-
-struct BuildItem {
-    bounds: Aabb,
-    centroid: Vec3,
-    index: u32,
-}
-
-/// A ray prepared for box tests: origin, reciprocal direction, and for each
-/// axis which bound row the ray meets first.
-struct BoxRay {
-    origin: [f32; 3],
-    inv_dir: [f32; 3],
-    near_row: [usize; 3],
-}
-
-impl BoxRay {
-    fn new(ray: &Ray) -> BoxRay {
-        let inv = ray.dir.recip();
-        let row = |axis: usize| 2 * axis + usize::from(inv[axis] < 0.0);
-        BoxRay {
-            origin: ray.origin.into(),
-            inv_dir: inv.into(),
-            near_row: [row(0), row(1), row(2)],
-        }
-    }
-}
-
-impl BvhNode {
-    const EMPTY: BvhNode = BvhNode {
-        bounds: [
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-        ],
-        child: [0; WIDTH],
-    };
-
-    fn set_lane(&mut self, lane: usize, b: &Aabb, child: u32) {
-        for axis in 0..3 {
-            self.bounds[2 * axis][lane] = b.min[axis];
-            self.bounds[2 * axis + 1][lane] = b.max[axis];
-        }
-        self.child[lane] = child;
-    }
-
-    /// The entry distance of the ray into each child's box within
-    /// `(0, t_max)`, or infinity where it misses, and the mask of the
-    /// children it enters (bit `i` for lane `i`): the slab test, four lanes
-    /// at a time with SSE (every x86-64 CPU has it).
-    #[inline(always)]
-    fn hit(&self, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], u32) {
-        let (low, low_mask) = self.hit_half(ray, t_max, 0);
-        let (high, high_mask) = self.hit_half(ray, t_max, 4);
-        let mut dist = [0.0; WIDTH];
-        dist[..4].copy_from_slice(&low);
-        dist[4..].copy_from_slice(&high);
-        (dist, low_mask | high_mask << 4)
-    }
-
-    /// [`BvhNode::hit`] for lanes `from..from + 4`.
-    #[inline(always)]
-    fn hit_half(&self, ray: &BoxRay, t_max: f32, from: usize) -> ([f32; 4], u32) {
-        let lanes = |row: usize| {
-            let quad: [f32; 4] = self.bounds[row][from..from + 4].try_into().unwrap();
-            f32x4::from(quad)
-        };
-        let mut near = f32x4::ZERO;
-        let mut far = f32x4::splat(t_max);
-        for axis in 0..3 {
-            let lo = lanes(ray.near_row[axis]);
-            let hi = lanes(ray.near_row[axis] ^ 1);
-            let o = f32x4::splat(ray.origin[axis]);
-            let inv = f32x4::splat(ray.inv_dir[axis]);
-            // `fast_max(a, b)` is `a > b ? a : b` and keeps `b` when either is
-            // NaN (a zero direction component times an infinite reciprocal).
-            near = ((lo - o) * inv).fast_max(near);
-            far = ((hi - o) * inv).fast_min(far);
-        }
-        let entered = near.cmp_le(far * f32x4::splat(ROBUST));
-        let dist = entered.blend(near, f32x4::splat(f32::INFINITY));
-        (dist.to_array(), (entered.move_mask() & 15) as u32)
-    }
-
-    /// [`BvhNode::hit`] as one eight-lane AVX pass: the same operations in
-    /// the same order, lane for lane (`_mm256_max_ps(a, b)` keeps `b` on a
-    /// NaN as `fast_max` does; `_CMP_LE_OQ` is false on a NaN as `cmp_le`).
-    ///
-    /// # Safety
-    /// The CPU must support AVX.
-    #[cfg(target_arch = "x86_64")]
-    #[inline]
-    #[target_feature(enable = "avx")]
-    unsafe fn hit_avx(&self, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], u32) {
-        use std::arch::x86_64::*;
-        let mut near = _mm256_setzero_ps();
-        let mut far = _mm256_set1_ps(t_max);
-        for axis in 0..3 {
-            // SAFETY: each row is eight contiguous f32s.
-            let (lo, hi) = unsafe {
-                (
-                    _mm256_loadu_ps(self.bounds[ray.near_row[axis]].as_ptr()),
-                    _mm256_loadu_ps(self.bounds[ray.near_row[axis] ^ 1].as_ptr()),
-                )
-            };
-            let o = _mm256_set1_ps(ray.origin[axis]);
-            let inv = _mm256_set1_ps(ray.inv_dir[axis]);
-            near = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(lo, o), inv), near);
-            far = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(hi, o), inv), far);
-        }
-        let entered = _mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_mul_ps(far, _mm256_set1_ps(ROBUST)));
-        let dist = _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), near, entered);
-        let mut out = [0.0; WIDTH];
-        // SAFETY: `out` holds eight f32s.
-        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), dist) };
-        (out, _mm256_movemask_ps(entered) as u32)
-    }
-}
-
-/// Whether the walks take the AVX box test (checked once per walk; the
-/// standard library caches the answer).
-#[inline(always)]
-fn avx() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
-/// A node's box test by the path a walk was compiled for.
-#[inline(always)]
-fn node_hit<const AVX: bool>(node: &BvhNode, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], u32) {
-    #[cfg(target_arch = "x86_64")]
-    if AVX {
-        // SAFETY: the AVX walks run only where `avx()` said so.
-        return unsafe { node.hit_avx(ray, t_max) };
-    }
-    node.hit(ray, t_max)
 }
 
 /// A stack entry: a node index and the ray's entry distance into its box.
@@ -287,26 +108,15 @@ impl Bvh {
 
     /// [`Bvh::build`] for primitives whose leaves are tested as `leaves` says.
     pub fn build_leaves(bounds: &[Aabb], leaves: Leaves) -> (Bvh, Vec<u32>) {
-        let mut items: Vec<BuildItem> = bounds
-            .iter()
-            .enumerate()
-            .map(|(i, b)| BuildItem {
-                bounds: *b,
-                centroid: b.centroid(),
-                index: i as u32,
-            })
-            .collect();
-        if items.is_empty() {
+        let (binary, order) = sah::binary_tree(bounds, leaves);
+        let Some(root) = binary.first() else {
             return (Bvh::default(), Vec::new());
-        }
-        let mut binary = Vec::with_capacity(2 * items.len());
-        build_node(&mut binary, &mut items, 0, leaves);
+        };
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.len() / 3 + 1),
-            bounds: binary[0].bounds,
+            bounds: root.bounds,
         };
         bvh.collapse(&binary, 0);
-        let order = items.iter().map(|it| it.index).collect();
         (bvh, order)
     }
 
@@ -588,126 +398,11 @@ fn leaf_range(word: u32) -> (usize, usize) {
     ((word & SLOT_MASK) as usize, ((word >> 29) & 3) as usize + 1)
 }
 
-/// Appends the binary subtree over `items` (whose first primitive slot is
-/// `first`) to `nodes`, depth first, left child right after its parent.
-fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize, leaves: Leaves) {
-    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(&it.bounds));
-    let leaf = |nodes: &mut Vec<BinaryNode>| {
-        nodes.push(BinaryNode {
-            bounds,
-            offset: first as u32,
-            count: items.len() as u32,
-        })
-    };
-    if items.len() <= 1 {
-        leaf(nodes);
-        return;
-    }
-    let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
-    let split = best_split(items, &centroids);
-    let leaf_cost = match leaves {
-        Leaves::Scalar => items.len() as f32,
-        Leaves::Packed => 1.0,
-    };
-    if items.len() <= MAX_LEAF && split.is_none_or(|(_, _, cost)| cost >= leaf_cost) {
-        leaf(nodes);
-        return;
-    }
-    let (axis, mut mid) = match split {
-        Some((axis, boundary, _)) => (
-            axis,
-            partition(items, |it| bin_of(it.centroid, &centroids, axis) < boundary),
-        ),
-        None => (bounds.extent().max_position(), 0),
-    };
-    if mid == 0 || mid == items.len() {
-        // All centroids coincide: halve by order along the widest axis.
-        items.sort_by(|a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        mid = items.len() / 2;
-    }
-    let me = nodes.len();
-    nodes.push(BinaryNode {
-        bounds,
-        offset: 0,
-        count: 0,
-    });
-    let (left, right) = items.split_at_mut(mid);
-    build_node(nodes, left, first, leaves);
-    nodes[me].offset = nodes.len() as u32;
-    build_node(nodes, right, first + mid, leaves);
-}
-
-fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {
-    let lo = centroids.min[axis];
-    let ext = centroids.max[axis] - lo;
-    if ext <= 0.0 {
-        return 0;
-    }
-    (((c[axis] - lo) / ext * BINS as f32) as usize).min(BINS - 1)
-}
-
-/// The best (axis, first bin of the right side, SAH cost in units of one
-/// primitive test) over all binned splits, if any splits the items.
-fn best_split(items: &[BuildItem], centroids: &Aabb) -> Option<(usize, usize, f32)> {
-    let parent_area = items
-        .iter()
-        .fold(Aabb::EMPTY, |b, it| b.union(&it.bounds))
-        .area();
-    let mut best: Option<(usize, usize, f32)> = None;
-    for axis in 0..3 {
-        if centroids.extent()[axis] <= 0.0 {
-            continue;
-        }
-        let mut boxes = [Aabb::EMPTY; BINS];
-        let mut counts = [0usize; BINS];
-        for it in items {
-            let b = bin_of(it.centroid, centroids, axis);
-            boxes[b] = boxes[b].union(&it.bounds);
-            counts[b] += 1;
-        }
-        let mut right_area = [0.0f32; BINS];
-        let mut right_count = [0usize; BINS];
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
-        for b in (1..BINS).rev() {
-            acc = acc.union(&boxes[b]);
-            n += counts[b];
-            right_area[b] = acc.area();
-            right_count[b] = n;
-        }
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
-        for b in 1..BINS {
-            acc = acc.union(&boxes[b - 1]);
-            n += counts[b - 1];
-            if n == 0 || right_count[b] == 0 {
-                continue;
-            }
-            let cost = TRAVERSAL_COST
-                + (acc.area() * n as f32 + right_area[b] * right_count[b] as f32)
-                    / parent_area.max(f32::MIN_POSITIVE);
-            if best.is_none_or(|(_, _, c)| cost < c) {
-                best = Some((axis, b, cost));
-            }
-        }
-    }
-    best
-}
-
-/// Moves the items satisfying `left` to the front; returns how many there are.
-fn partition(items: &mut [BuildItem], left: impl Fn(&BuildItem) -> bool) -> usize {
-    let mut mid = 0;
-    for i in 0..items.len() {
-        if left(&items[i]) {
-            items.swap(i, mid);
-            mid += 1;
-        }
-    }
-    mid
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::sampling::rng::numbers;
+    use glam::Vec3;
 
     #[test]
     fn nodes_are_four_cache_lines() {
