@@ -21,7 +21,9 @@ mod sah;
 use arrayvec::ArrayVec;
 
 use super::{Aabb, Ray};
-use node::{avx, node_hit, BoxRay, BvhNode, WIDTH};
+#[cfg(target_arch = "x86_64")]
+use node::avx;
+use node::{node_hit, BoxRay, BvhNode, WIDTH};
 use sah::BinaryNode;
 
 /// Depth of the traversal stack: a node pushes at most 7 more entries than

@@ -140,16 +140,10 @@ impl BvhNode {
 
 /// Whether the walks take the AVX box test (checked once per walk; the
 /// standard library caches the answer).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(super) fn avx() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+    std::arch::is_x86_feature_detected!("avx")
 }
 
 /// A node's box test by the path a walk was compiled for.
