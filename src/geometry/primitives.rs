@@ -144,8 +144,15 @@ impl PrimitiveSet {
         t_max: f32,
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let mut best = None;
-        self.bvh
-            .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+        // The leaf visit is inlined into the walk rather than called once per
+        // leaf: with the eight-wide walk, renders of the Cornell box and the
+        // spheres took 3 % and 6 % fewer instructions and 3.5 % and 6 % less
+        // CPU time (docs/performance.md, Session 10).
+        self.bvh.traverse_leaves(
+            ray,
+            t_max,
+            #[inline(always)]
+            |first, count, mut t_max| {
                 let mut found = None;
                 let mut keep = |slot: usize, c: Crossing, t_max: &mut f32| {
                     best = Some((c, slot));
@@ -170,7 +177,8 @@ impl PrimitiveSet {
                     }
                 }
                 found
-            });
+            },
+        );
         let (c, slot) = best?;
         let h = self.prims[slot].surface(ray, &c);
         let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
