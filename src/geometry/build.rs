@@ -43,8 +43,6 @@ pub enum BuildError {
 /// The whole scene's geometry, ready to intersect.
 pub struct World {
     root: Root,
-    /// The box around every object (infinite when a plane is in it).
-    bounds: Aabb,
     revolutions: Vec<Arc<RevolutionSurface>>,
     emitters: Emitters,
 }
@@ -62,7 +60,6 @@ impl World {
         };
         let root = b.instance(scene.objects.iter(), &At::WORLD)?;
         Ok(World {
-            bounds: root.bounds,
             root: Root::new(root),
             revolutions: b.revolutions,
             emitters: Emitters::finish(scene, &b.placed),
@@ -112,7 +109,10 @@ impl World {
 
     /// The box around every object (infinite when a plane is in it).
     pub fn bounds(&self) -> Aabb {
-        self.bounds
+        match &self.root {
+            Root::Bare(geometry) => geometry.bounds(),
+            Root::Placed(instance) => instance.bounds,
+        }
     }
 
     /// Intersections that neither Newton nor its fallback could verify,

@@ -22,7 +22,7 @@ pub use crate::geometry::emitter::LightShape;
 use crate::geometry::emitter::{Emitters, LightId};
 use crate::geometry::ray::{gamma, SurfacePoint};
 use crate::geometry::World;
-use crate::sampling::warp::sin_cos_turn;
+use crate::sampling::warp::{sin_cos_turn, uniform_sphere};
 use crate::sampling::Sampler;
 use crate::scene::{Material, MaterialId, Scene, Texture};
 
@@ -465,10 +465,7 @@ fn cone_extent(center: Vec3, radius: f32, p: Vec3) -> Option<f32> {
 /// in the cone it subtends from outside, uniform on the surface from inside.
 fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option<(Vec3, f32)> {
     let Some(extent) = cone_extent(center, radius, p) else {
-        let z = 1.0 - 2.0 * u1;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let (s, c) = sin_cos_turn(u2);
-        let x = center + radius * Vec3::new(r * c, r * s, z);
+        let x = center + radius * uniform_sphere(Vec2::new(u1, u2));
         let pdf = area_to_solid_angle(sphere_area(radius).recip(), p, x, (x - center) / radius)?;
         return Some((x, pdf));
     };
@@ -506,6 +503,22 @@ mod tests {
     use crate::sampling::{Dim, SamplerKind};
     use crate::scene::object::RectPlane;
     use crate::scene::{Node, Shape};
+
+    /// Seen from its centre, a sphere light's points lie on it and have the
+    /// uniform solid-angle density 1 / 4π.
+    #[test]
+    fn a_sphere_light_seen_from_inside_is_sampled_uniformly() {
+        let (center, radius) = (Vec3::new(1.0, 2.0, 3.0), 2.0);
+        for k in 0..64 {
+            let (u1, u2) = ((k % 8) as f32 / 8.0 + 0.03, (k / 8) as f32 / 8.0 + 0.05);
+            let (x, pdf) = sample_sphere(center, radius, center, u1, u2).expect("a point");
+            assert!(((x - center).length() - radius).abs() < 1e-5, "{x}");
+            assert!(
+                (pdf - 1.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-6,
+                "{pdf}"
+            );
+        }
+    }
 
     fn world(scene: &Scene) -> World {
         World::build(scene).expect("a world")

@@ -10,8 +10,7 @@ use glam::{Vec2, Vec3};
 /// polynomials to x⁹ and x⁸ (truncation below 3e-8, under the rounding of
 /// an `f32`), and the quarter turns rotate the pair. Plain multiplications
 /// and additions, so every CPU gives the same bits, which the C library's
-/// `sincosf` (a different routine with and without FMA) does not promise;
-/// and about a third of its time.
+/// `sincosf` (a different routine with and without FMA) does not promise.
 #[inline]
 pub fn sin_cos_turn(u: f32) -> (f32, f32) {
     // The nearest quarter turn: `4u + 0.5` cannot round across an integer.
