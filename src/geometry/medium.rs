@@ -88,23 +88,46 @@ impl Medium {
         if self.density <= 0.0 {
             return;
         }
-        // A ball: the ray enters at the near root (the far one for a
-        // negative radius, whose normals face inwards), with no surface
-        // computed.
         match self.ball {
             Some(ball) => {
-                if let Some(roots) = ball.roots(ray) {
-                    let outward = ball.radius > 0.0;
-                    self.walk(ray, t_min, t_max, out, |t| {
-                        let (at, near) = roots.first_after(t)?;
-                        Some((at, near == outward))
+                // A stretch whose two ends are inside a ball is inside it
+                // all along (a ball is convex): no roots to solve. Every
+                // ray of a scene under one haze takes this way.
+                if ball.surely_holds(ray.at(t_min)) && ball.surely_holds(ray.at(t_max)) {
+                    out.push(MediumSegment {
+                        t0: t_min,
+                        t1: t_max,
+                        density: self.density,
+                        material: self.material,
                     });
+                } else {
+                    self.ball_segments(ball, ray, t_min, t_max, out);
                 }
             }
             None => self.walk(ray, t_min, t_max, out, |t| {
                 let h = self.boundary.intersect(ray, t, f32::INFINITY)?;
                 Some((h.t, h.front_face))
             }),
+        }
+    }
+
+    /// The stretches inside a ball from one solve of its roots: the ray
+    /// enters at the near root (the far one for a negative radius, whose
+    /// normals face inwards), with no surface computed.
+    fn ball_segments(
+        &self,
+        ball: Sphere,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        out: &mut MediumSegments,
+    ) {
+        if let Some(roots) = ball.roots(ray) {
+            let outward = ball.radius > 0.0;
+            self.walk(ray, t_min, t_max, out, |t| {
+                let (at, near) = roots.first_after(t)?;
+                Some((at, near == outward))
+            });
         }
     }
 
@@ -209,6 +232,58 @@ mod tests {
         assert!(found(&m, &beside, 0.0, f32::INFINITY).is_empty());
         let away = Ray::new(Vec3::ZERO, Vec3::NEG_Z, 0.0);
         assert!(found(&m, &away, 0.0, f32::INFINITY).is_empty());
+    }
+
+    #[test]
+    fn the_ball_shortcut_gives_the_stretch_the_roots_give() {
+        // Stretches whose ends are both inside the ball skip the roots; they
+        // must be the stretch the roots give, bit for bit, near and far
+        // from the origin, for tiny and huge balls, up to ends a hair inside
+        // the surface.
+        let mut next = numbers(23);
+        let mut shortcuts = 0;
+        for (centre, radius) in [
+            (Vec3::new(1.0, -2.0, 3.0), 1.5),
+            (Vec3::ZERO, 5000.0),
+            (Vec3::new(1e5, 0.0, -1e5), 1.0),
+            (Vec3::new(0.3, 0.1, 0.0), 1e-3),
+        ] {
+            let ball = Sphere {
+                center: centre,
+                radius,
+            };
+            let m = medium(Geometry::Single(
+                Primitive::Sphere(ball),
+                MaterialId(0),
+                LightId::NONE,
+            ));
+            for _ in 0..20_000 {
+                // Origins and ends within 1.2 radii: a third just inside
+                // the surface, a third well inside, a third anywhere.
+                let mut end = || {
+                    let p = Vec3::new(next(), next(), next()) * 2.0 - Vec3::ONE;
+                    let u = next();
+                    if u < 1.0 / 3.0 {
+                        p.normalize_or(Vec3::X) * (1.0 - 1e-3 * next())
+                    } else if u < 2.0 / 3.0 {
+                        p * 0.55
+                    } else {
+                        p * 1.2
+                    }
+                };
+                let (a, b) = (end(), end());
+                let (from, to) = (centre + a * radius, centre + b * radius);
+                let ray = Ray::new(from, to - from, 0.0);
+                let mut roots = MediumSegments::default();
+                m.ball_segments(ball, &ray, 0.0, 1.0, &mut roots);
+                let shortcut = ball.surely_holds(ray.at(0.0)) && ball.surely_holds(ray.at(1.0));
+                shortcuts += usize::from(shortcut);
+                let got: Vec<(f32, f32)> = found(&m, &ray, 0.0, 1.0);
+                let want: Vec<(f32, f32)> = roots.as_slice().iter().map(|s| (s.t0, s.t1)).collect();
+                assert_eq!(got, want, "{ray:?} {radius}");
+            }
+        }
+        assert!(shortcuts > 10_000, "{shortcuts}");
     }
 
     #[test]
