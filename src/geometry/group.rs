@@ -1,16 +1,17 @@
 //! A group of instances: the surfaces under one BVH, with a short list of
-//! the unbounded ones (infinite planes) tested after it, and the media under
-//! a BVH of their own, asked for their stretches last, up to the nearest
-//! surface found.
+//! the unbounded ones (infinite planes) tested after it, and the media,
+//! asked for their stretches last, up to the nearest surface found (a few
+//! in turn, more through a BVH of their own).
 
 use super::instance::{is_bounded, Instance};
 use super::medium::MediumSegments;
 use super::object::Geometry;
 use super::{Aabb, Bvh, Hit, Ray};
 
-/// Up to this many media are asked in turn rather than through their BVH: a ball's early miss test costs a few dozen instructions, a
-/// walk's set-up and node test over a hundred (with a haze and one ball,
-/// the book-2 scene took 3.5 % more instructions through the BVH).
+/// Up to this many media are asked in turn rather than through a BVH: a
+/// ball's early miss test costs a few dozen instructions, a walk's set-up
+/// and node test over a hundred (with a haze and one ball, the book-2 scene
+/// took 3.5 % more instructions through a BVH).
 const FEW_MEDIA: usize = 4;
 
 /// Instances under one hierarchy.
