@@ -261,3 +261,51 @@ fn absurd_command_line_numbers_are_refused_before_any_work() {
     }
     assert!(!plain.exists(), "an image was written");
 }
+
+#[test]
+fn objects_and_cameras_beyond_the_coordinate_limit_are_refused() {
+    // Past ±1e18 the renderer's f32 squared distances overflow and such
+    // objects vanished from the picture without a word.
+    let head = "render { size 16 x 16 }\ncamera { from (0, 0, -5) at (0, 0, 0) }\n";
+    let ball = "material lambertian(rgb(0.5, 0.5, 0.5))";
+    let cases = [
+        ("radius", format!("sphere {{ radius 1e19 {ball} }}")),
+        (
+            "center",
+            format!("sphere {{ center (2e18, 0, 0) radius 1 {ball} }}"),
+        ),
+        ("f32", format!("sphere {{ radius 1e40 {ball} }}")),
+        (
+            "box",
+            format!("box {{ min (0, 0, 0) max (1e19, 1, 1) {ball} }}"),
+        ),
+        (
+            "translate",
+            format!("sphere {{ {ball} translate (1e40, 0, 0) }}"),
+        ),
+        ("scale", format!("sphere {{ {ball} scale 1e30 }}")),
+        (
+            "group",
+            format!("group {{ sphere {{ {ball} }} translate (0, 5e17, 0) scale 4 }}"),
+        ),
+        (
+            "motion",
+            format!("sphere {{ {ball} motion {{ translate (1e19 * t, 0, 0) }} }}"),
+        ),
+    ];
+    for (name, object) in cases {
+        let text = format!("{head}{object}\n");
+        assert_refused(&format!("far-{name}.rt"), text.as_bytes(), "rtlang::range");
+    }
+    let camera = format!("render {{ size 16 x 16 }}\ncamera {{ from (0, 0, -2e18) at (0, 0, 0) }}\nsphere {{ {ball} }}\n");
+    assert_refused("far-camera.rt", camera.as_bytes(), "rtlang::range");
+    let tiny = format!("{head}sphere {{ radius 1e-25 {ball} }}\n");
+    assert_refused("tiny-radius.rt", tiny.as_bytes(), "rtlang::range");
+    // At the limit itself, nothing is refused.
+    let edge = format!(
+        "render {{ size 16 x 16 }}\ncamera {{ from (0, 0, -1e18) at (0, 0, 0) }}\n\
+         sphere {{ radius 5e17 {ball} }}\nsphere {{ radius 1e-18 {ball} }}\n"
+    );
+    let (status, codes) = check_codes(&scratch("edge.rt", edge.as_bytes()));
+    assert_eq!(status, Some(0), "{codes:?}");
+}

@@ -80,7 +80,8 @@ fn finite_motions_stay_accepted() {
         "translate (t - t + 1, 0, 0)",
         "rotate y 360 * t",
         "scale 1 / (t + 0.5)",
-        "translate (ln(t + 0.001), pow(t, 2.5), 1e30 * t)",
+        // Far, but within the coordinate limit of ±1e18.
+        "translate (ln(t + 0.001), pow(t, 2.5), 1e17 * t)",
     ]
     .iter()
     .enumerate()

@@ -50,3 +50,48 @@ fn every_scale_renders_the_same_image() {
         );
     }
 }
+
+/// The centre pixel of a grey ball (albedo 0.5) under a white sky, seen
+/// from three radii away: every bounce off a convex ball leaves it, so the
+/// pixel is exactly 0.5 whatever the sample.
+fn grey_ball_centre(radius: f32) -> [f32; 3] {
+    use rtlang::scene::settings::Background;
+    use rtlang::scene::texture::Texture;
+    use rtlang::scene::{Material, Node, Scene, Shape};
+    let mut scene = Scene::default();
+    scene.settings.width = 9;
+    scene.settings.height = 9;
+    scene.settings.spp = 4;
+    scene.settings.background = Background::Solid(glam::Vec3::ONE);
+    scene.camera.from = glam::Vec3::new(0.0, 0.0, -3.0 * radius);
+    scene.camera.at = glam::Vec3::ZERO;
+    let grey = scene.add_texture(Texture::Solid(glam::Vec3::splat(0.5)));
+    let material = scene.add_material(Material::Lambertian { albedo: grey });
+    scene.objects.push(Node::Shape {
+        shape: Shape::Sphere {
+            center: glam::Vec3::ZERO,
+            radius,
+        },
+        material,
+    });
+    let world = World::build(&scene).expect("builds");
+    let opts = RenderOptions::from_settings(&scene.settings);
+    let out = render(&scene, &world, &opts, &|_| {}).expect("renders");
+    let p = out.pixels[4 * 9 + 4];
+    [p.x, p.y, p.z]
+}
+
+#[test]
+fn a_ball_at_either_size_limit_renders_exactly() {
+    // The limits the evaluator enforces (radius 1e-18, coordinates 1e18)
+    // leave rays room: a ball of either size, three radii from the camera,
+    // renders the exact furnace value. (Past them, at radius 1e-25 or 1e19,
+    // the ball vanished and the pixel was the sky's 1.)
+    for radius in [1e-18f32, 1.0, 3e17] {
+        let c = grey_ball_centre(radius);
+        assert!(
+            c.iter().all(|v| (v - 0.5).abs() < 1e-6),
+            "radius {radius}: {c:?}"
+        );
+    }
+}

@@ -16,6 +16,7 @@ pub mod motion;
 pub mod obj;
 pub mod obj_lines;
 pub mod object;
+pub mod reach;
 pub mod settings;
 pub mod texture;
 

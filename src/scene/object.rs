@@ -10,6 +10,10 @@ use super::{Bezier, MaterialId, MeshId, Motion, ProtoId};
 /// which holds up to 3.4e38, so 1e18 leaves a margin of 100 for the sums.
 pub const MAX_COORDINATE: f32 = 1e18;
 
+/// The smallest sphere radius: its square, which the sphere test takes,
+/// stays far above f32's smallest normal number (1.2e-38).
+pub const MIN_RADIUS: f32 = 1e-18;
+
 /// Which axis-aligned plane a rectangle lies in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum RectPlane {

@@ -13,6 +13,7 @@ mod exprs;
 mod files;
 mod functions;
 mod issue;
+mod limits;
 mod math;
 mod motion;
 mod objects;
@@ -325,6 +326,7 @@ impl Evaluator {
         }
         self.finish_settings();
         self.check_motions();
+        self.check_limits();
         self.check_unused();
         self.warn_unused_fns();
     }

@@ -206,6 +206,14 @@ impl Evaluator {
                 format!("the radius must be positive, not {r}"),
                 "a sphere's radius is its size in scene units",
             )?;
+            let least = crate::scene::object::MIN_RADIUS;
+            self.range(
+                r as f32 >= least,
+                s,
+                format!("the radius {r:e} is below the smallest, {least:e}"),
+                "rtlang traces rays in f32, where the square of a smaller radius underflows and \
+                 the sphere would vanish; scale the whole scene up",
+            )?;
             Ok(r)
         });
         let material = self.shape_material(b, o);
