@@ -11,38 +11,77 @@ use super::motion::{MotionStep, Program};
 use super::object::{Node, RectPlane, Shape};
 use super::Scene;
 
-/// The largest distance from the origin of any point of `node` in its
-/// parent's space, for every time in `shutter`. Planes count by the point
-/// that places them (they are infinite by nature); a value that is not
-/// finite gives infinity.
-pub fn reach(scene: &Scene, node: &Node, shutter: (f32, f32)) -> f64 {
-    let r = match node {
-        Node::Shape { shape, .. } => shape_reach(shape),
-        Node::Mesh { mesh, .. } => scene.meshes.get(mesh.0 as usize).map_or(0.0, |m| {
+/// How far objects of one scene reach, with each mesh's and prototype's
+/// reach kept once found: a scene may place one large mesh many times.
+pub struct Reach<'a> {
+    scene: &'a Scene,
+    shutter: (f32, f32),
+    meshes: Vec<Option<f64>>,
+    prototypes: Vec<Option<f64>>,
+}
+
+impl<'a> Reach<'a> {
+    /// Reaches in `scene` for every time in `shutter`.
+    pub fn new(scene: &'a Scene, shutter: (f32, f32)) -> Reach<'a> {
+        Reach {
+            scene,
+            shutter,
+            meshes: vec![None; scene.meshes.len()],
+            prototypes: vec![None; scene.prototypes.len()],
+        }
+    }
+
+    /// The largest distance from the origin of any point of `node` in its
+    /// parent's space, for every time of the shutter. Planes count by the
+    /// point that places them (they are infinite by nature); a value that
+    /// is not finite gives infinity.
+    pub fn of(&mut self, node: &Node) -> f64 {
+        let r = match node {
+            Node::Shape { shape, .. } => shape_reach(shape),
+            Node::Mesh { mesh, .. } => self.mesh(mesh.0 as usize),
+            Node::Group(children) => children.iter().map(|c| self.of(c)).fold(0.0, f64::max),
+            Node::Transform { matrix, child } => placed(matrix, self.of(child)),
+            Node::Motion { motion, child } => {
+                let inner = self.of(child);
+                motion
+                    .steps
+                    .iter()
+                    .fold(inner, |r, step| moved(step, r, self.shutter))
+            }
+            Node::Medium { boundary, .. } => self.of(boundary),
+            Node::Instance(id) => self.prototype(id.0 as usize),
+            Node::Flip(child) => self.of(child),
+        };
+        if r.is_nan() {
+            f64::INFINITY
+        } else {
+            r
+        }
+    }
+
+    fn mesh(&mut self, id: usize) -> f64 {
+        if let Some(Some(r)) = self.meshes.get(id) {
+            return *r;
+        }
+        let r = self.scene.meshes.get(id).map_or(0.0, |m| {
             m.bounds()
                 .map_or(0.0, |(lo, hi)| corners_reach(lo.as_dvec3(), hi.as_dvec3()))
-        }),
-        Node::Group(children) => children
-            .iter()
-            .map(|c| reach(scene, c, shutter))
-            .fold(0.0, f64::max),
-        Node::Transform { matrix, child } => placed(matrix, reach(scene, child, shutter)),
-        Node::Motion { motion, child } => motion
-            .steps
-            .iter()
-            .fold(reach(scene, child, shutter), |r, step| {
-                moved(step, r, shutter)
-            }),
-        Node::Medium { boundary, .. } => reach(scene, boundary, shutter),
-        Node::Instance(id) => scene
-            .prototypes
-            .get(id.0 as usize)
-            .map_or(0.0, |p| reach(scene, p, shutter)),
-        Node::Flip(child) => reach(scene, child, shutter),
-    };
-    if r.is_nan() {
-        f64::INFINITY
-    } else {
+        });
+        if let Some(slot) = self.meshes.get_mut(id) {
+            *slot = Some(r);
+        }
+        r
+    }
+
+    fn prototype(&mut self, id: usize) -> f64 {
+        if let Some(Some(r)) = self.prototypes.get(id) {
+            return *r;
+        }
+        let scene = self.scene;
+        let r = scene.prototypes.get(id).map_or(0.0, |p| self.of(p));
+        if let Some(slot) = self.prototypes.get_mut(id) {
+            *slot = Some(r);
+        }
         r
     }
 }
@@ -86,15 +125,22 @@ fn corners_reach(lo: DVec3, hi: DVec3) -> f64 {
 }
 
 /// The reach of a child of reach `r` placed by `m`: the linear part
-/// stretches no vector by more than its Frobenius norm.
+/// stretches no vector by more than its 2-norm, which is at most
+/// √(‖L‖₁ ‖L‖∞) (1 for the identity and √2 for a 45° turn about an axis).
 fn placed(m: &Mat4, r: f64) -> f64 {
     let m = m.as_dmat4();
-    let linear = DMat3::from_mat4(m);
-    let norm = (linear.x_axis.length_squared()
-        + linear.y_axis.length_squared()
-        + linear.z_axis.length_squared())
-    .sqrt();
-    norm * r + m.w_axis.truncate().length()
+    let l = DMat3::from_mat4(m);
+    let columns = [l.x_axis, l.y_axis, l.z_axis];
+    let norm1 = columns
+        .iter()
+        .map(|c| c.abs().element_sum())
+        .fold(0.0, f64::max);
+    let rows = l.transpose();
+    let norm_inf = [rows.x_axis, rows.y_axis, rows.z_axis]
+        .iter()
+        .map(|c| c.abs().element_sum())
+        .fold(0.0, f64::max);
+    (norm1 * norm_inf).sqrt() * r + m.w_axis.truncate().length()
 }
 
 /// The reach after one motion step, over every time of the shutter.
@@ -146,7 +192,8 @@ mod tests {
     #[test]
     fn shapes_reach_their_farthest_point() {
         let scene = Scene::default();
-        let r = |n: &Node| reach(&scene, n, (0.0, 1.0));
+        let mut reach = Reach::new(&scene, (0.0, 1.0));
+        let mut r = |n: &Node| reach.of(n);
         assert!(near(r(&ball(Vec3::new(3.0, 4.0, 0.0), 2.0)), 7.0));
         let cube = shape(Shape::Cuboid {
             min: Vec3::new(-1.0, 0.0, 0.0),
@@ -172,19 +219,61 @@ mod tests {
     }
 
     #[test]
+    fn meshes_and_prototypes_reach_as_placed() {
+        let mut scene = Scene::default();
+        scene
+            .meshes
+            .push(std::sync::Arc::new(crate::scene::MeshData {
+                positions: vec![Vec3::new(1.0, 2.0, 2.0), Vec3::new(-6.0, 0.0, 0.0)],
+                ..Default::default()
+            }));
+        scene.prototypes.push(ball(Vec3::new(0.0, 3.0, 0.0), 1.0));
+        let mesh = Node::Mesh {
+            mesh: crate::scene::MeshId(0),
+            materials: Vec::new(),
+        };
+        // The box (-6, 0, 0)…(1, 2, 2): its farthest corner is (-6, 2, 2).
+        let mut reach = Reach::new(&scene, (0.0, 1.0));
+        assert!(near(reach.of(&mesh), 44f64.sqrt()));
+        // The prototype, placed twice: 4 as it is, 14 moved up by 10.
+        let placed = Node::Group(vec![
+            Node::Instance(crate::scene::ProtoId(0)),
+            Node::Transform {
+                matrix: Mat4::from_translation(Vec3::new(0.0, 10.0, 0.0)),
+                child: Box::new(Node::Instance(crate::scene::ProtoId(0))),
+            },
+        ]);
+        assert!(near(reach.of(&placed), 14.0));
+        assert!(near(
+            reach.of(&Node::Instance(crate::scene::ProtoId(0))),
+            4.0
+        ));
+    }
+
+    #[test]
     fn transforms_and_motion_carry_the_reach_conservatively() {
         let scene = Scene::default();
         let unit = ball(Vec3::ZERO, 1.0);
-        // Scaled by 5 and moved 12 along y: the farthest point is 17 away.
+        // Scaled by 5 and moved 12 along y: the farthest point is 17 away,
+        // and the bound is exact for a scale.
         let m =
             Mat4::from_translation(Vec3::new(0.0, 12.0, 0.0)) * Mat4::from_scale(Vec3::splat(5.0));
         let placed = Node::Transform {
             matrix: m,
             child: Box::new(unit.clone()),
         };
-        let got = reach(&scene, &placed, (0.0, 1.0));
-        // The Frobenius bound: √3 · 5 + 12.
-        assert!(got >= 17.0 && near(got, 3f64.sqrt() * 5.0 + 12.0), "{got}");
+        let got = Reach::new(&scene, (0.0, 1.0)).of(&placed);
+        assert!(near(got, 17.0), "{got}");
+        // Turned 45° about z: bounded by √2 · 5 + 12, never below 17.
+        let turned = Node::Transform {
+            matrix: m * Mat4::from_rotation_z(std::f32::consts::FRAC_PI_4),
+            child: Box::new(ball(Vec3::ZERO, 1.0)),
+        };
+        let got = Reach::new(&scene, (0.0, 1.0)).of(&turned);
+        assert!(
+            got >= 17.0 && got <= 2f64.sqrt() * 5.0 + 12.0 + 1e-5,
+            "{got}"
+        );
         // Moving 100·t along x: 101 over the shutter [0, 1], 51 over [0, 0.5].
         let moving = Node::Motion {
             motion: Motion {
@@ -196,8 +285,8 @@ mod tests {
             },
             child: Box::new(unit),
         };
-        assert!(reach(&scene, &moving, (0.0, 1.0)) >= 101.0);
-        let half = reach(&scene, &moving, (0.0, 0.5));
+        assert!(Reach::new(&scene, (0.0, 1.0)).of(&moving) >= 101.0);
+        let half = Reach::new(&scene, (0.0, 0.5)).of(&moving);
         assert!((51.0..52.0).contains(&half), "{half}");
     }
 }

@@ -9,7 +9,7 @@ use super::Evaluator;
 use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
 use crate::scene::object::MAX_COORDINATE;
-use crate::scene::reach::reach;
+use crate::scene::reach::Reach;
 
 const HELP: &str = "rtlang traces rays in f32, whose squared distances overflow beyond about \
                     1.8e19, and an object out there would vanish from the picture; keep the \
@@ -21,13 +21,13 @@ impl Evaluator {
             return;
         }
         let limit = f64::from(MAX_COORDINATE);
-        let shutter = self.scene.camera.shutter;
+        let mut reach = Reach::new(&self.scene, self.scene.camera.shutter);
         let far: Vec<(f64, usize)> = self
             .scene
             .objects
             .iter()
             .enumerate()
-            .map(|(i, node)| (reach(&self.scene, node, shutter), i))
+            .map(|(i, node)| (reach.of(node), i))
             .filter(|(r, _)| *r > limit)
             .collect();
         for (r, i) in far {
