@@ -38,6 +38,37 @@ impl Default for Media {
     }
 }
 
+impl Media {
+    fn new(media: Vec<Instance>) -> Media {
+        if media.len() <= FEW_MEDIA {
+            Media::Few(media)
+        } else {
+            Media::Many(Layer::new(media))
+        }
+    }
+
+    fn bounds(&self) -> Aabb {
+        match self {
+            Media::Few(list) => list.iter().fold(Aabb::EMPTY, |b, i| b.union(&i.bounds)),
+            Media::Many(layer) => layer.bounds(),
+        }
+    }
+
+    /// Adds the stretches of the ray inside these media, up to `t_max` (a
+    /// medium finds no surface, only stretches).
+    #[inline(always)]
+    fn stretches(&self, ray: &Ray, t_min: f32, t_max: f32, out: &mut MediumSegments) {
+        match self {
+            Media::Few(list) => {
+                for m in list {
+                    m.intersect(ray, t_min, t_max, out);
+                }
+            }
+            Media::Many(layer) => layer.stretches(ray, t_min, t_max, out),
+        }
+    }
+}
+
 /// Instances under a BVH, and the unbounded ones beside it.
 #[derive(Default)]
 struct Layer {
@@ -69,13 +100,13 @@ impl Layer {
 
     /// The stretches of the ray inside media under this layer, up to
     /// `t_max`: the BVH skips those the ray stops short of.
-    fn stretches(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) {
+    fn stretches(&self, ray: &Ray, t_min: f32, t_max: f32, out: &mut MediumSegments) {
         self.bvh.traverse(ray, t_max, |slot, _| {
-            self.bounded[slot].intersect(ray, t_min, t_max, media);
+            self.bounded[slot].intersect(ray, t_min, t_max, out);
             None
         });
         for m in &self.unbounded {
-            m.intersect(ray, t_min, t_max, media);
+            m.intersect(ray, t_min, t_max, out);
         }
     }
 }
@@ -86,23 +117,14 @@ impl Group {
             .into_iter()
             .filter(|i| !i.bounds.is_empty())
             .partition(|i| matches!(*i.geometry, Geometry::Medium(_)));
-        let media = if media.len() <= FEW_MEDIA {
-            Media::Few(media)
-        } else {
-            Media::Many(Layer::new(media))
-        };
         Group {
             surfaces: Layer::new(surfaces),
-            media,
+            media: Media::new(media),
         }
     }
 
     pub fn bounds(&self) -> Aabb {
-        let media = match &self.media {
-            Media::Few(list) => list.iter().fold(Aabb::EMPTY, |b, i| b.union(&i.bounds)),
-            Media::Many(layer) => layer.bounds(),
-        };
-        self.surfaces.bounds().union(&media)
+        self.surfaces.bounds().union(&self.media.bounds())
     }
 
     /// Whether any instance is hit with `t` in `(t_min, t_max)`; the media's
@@ -117,15 +139,7 @@ impl Group {
             .iter()
             .any(|inst| inst.occluded(ray, t_min, t_max, media));
         if !hit {
-            // A medium blocks nothing; asking it adds its stretches.
-            match &self.media {
-                Media::Few(list) => {
-                    for m in list {
-                        m.occluded(ray, t_min, t_max, media);
-                    }
-                }
-                Media::Many(layer) => layer.stretches(ray, t_min, t_max, media),
-            }
+            self.media.stretches(ray, t_min, t_max, media);
         }
         hit
     }
@@ -152,15 +166,7 @@ impl Group {
                 best = Some(h);
             }
         }
-        // A medium finds no surface, only stretches.
-        match &self.media {
-            Media::Few(list) => {
-                for m in list {
-                    m.intersect(ray, t_min, t_max, media);
-                }
-            }
-            Media::Many(layer) => layer.stretches(ray, t_min, t_max, media),
-        }
+        self.media.stretches(ray, t_min, t_max, media);
         best
     }
 }

@@ -11,22 +11,31 @@ use super::motion::{MotionStep, Program};
 use super::object::{Node, RectPlane, Shape};
 use super::Scene;
 
-/// How far objects of one scene reach, with each mesh's and prototype's
-/// reach kept once found: a scene may place one large mesh many times.
+/// How far objects of one scene reach: each mesh's reach is found once
+/// (a scene may place one large mesh many times), each prototype's once it
+/// is first placed.
 pub struct Reach<'a> {
     scene: &'a Scene,
     shutter: (f32, f32),
-    meshes: Vec<Option<f64>>,
+    meshes: Vec<f64>,
     prototypes: Vec<Option<f64>>,
 }
 
 impl<'a> Reach<'a> {
     /// Reaches in `scene` for every time in `shutter`.
     pub fn new(scene: &'a Scene, shutter: (f32, f32)) -> Reach<'a> {
+        let meshes = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                m.bounds()
+                    .map_or(0.0, |(lo, hi)| corners_reach(lo.as_dvec3(), hi.as_dvec3()))
+            })
+            .collect();
         Reach {
             scene,
             shutter,
-            meshes: vec![None; scene.meshes.len()],
+            meshes,
             prototypes: vec![None; scene.prototypes.len()],
         }
     }
@@ -38,7 +47,7 @@ impl<'a> Reach<'a> {
     pub fn of(&mut self, node: &Node) -> f64 {
         let r = match node {
             Node::Shape { shape, .. } => shape_reach(shape),
-            Node::Mesh { mesh, .. } => self.mesh(mesh.0 as usize),
+            Node::Mesh { mesh, .. } => self.meshes.get(mesh.0 as usize).copied().unwrap_or(0.0),
             Node::Group(children) => children.iter().map(|c| self.of(c)).fold(0.0, f64::max),
             Node::Transform { matrix, child } => placed(matrix, self.of(child)),
             Node::Motion { motion, child } => {
@@ -57,20 +66,6 @@ impl<'a> Reach<'a> {
         } else {
             r
         }
-    }
-
-    fn mesh(&mut self, id: usize) -> f64 {
-        if let Some(Some(r)) = self.meshes.get(id) {
-            return *r;
-        }
-        let r = self.scene.meshes.get(id).map_or(0.0, |m| {
-            m.bounds()
-                .map_or(0.0, |(lo, hi)| corners_reach(lo.as_dvec3(), hi.as_dvec3()))
-        });
-        if let Some(slot) = self.meshes.get_mut(id) {
-            *slot = Some(r);
-        }
-        r
     }
 
     fn prototype(&mut self, id: usize) -> f64 {

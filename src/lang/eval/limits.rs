@@ -8,6 +8,7 @@
 use super::Evaluator;
 use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
+use crate::lang::source::Span;
 use crate::scene::object::MAX_COORDINATE;
 use crate::scene::reach::Reach;
 
@@ -31,46 +32,33 @@ impl Evaluator {
             .filter(|(r, _)| *r > limit)
             .collect();
         for (r, i) in far {
-            let span = self.object_spans[i];
-            self.diagnostics.push(
-                Diagnostic::error(
-                    Code::Range,
-                    span,
-                    format!(
-                        "this object reaches {} from the origin, beyond the coordinate limit \
-                         ±{MAX_COORDINATE:e}",
-                        distance(r)
-                    ),
-                )
-                .label("too far from the origin")
-                .help(HELP.to_string()),
-            );
+            self.too_far(self.object_spans[i], "this object reaches", r);
         }
         let cam = &self.scene.camera;
         let away = cam.from.as_dvec3().length().max(cam.at.as_dvec3().length());
         if let (Some(span), true) = (self.camera_seen, away > limit) {
-            self.diagnostics.push(
-                Diagnostic::error(
-                    Code::Range,
-                    span,
-                    format!(
-                        "the camera is {} from the origin, beyond the coordinate limit \
-                         ±{MAX_COORDINATE:e}",
-                        distance(away)
-                    ),
-                )
-                .label("too far from the origin")
-                .help(HELP.to_string()),
-            );
+            self.too_far(span, "the camera is", away);
         }
     }
-}
 
-/// A distance for a message: in f32 terms when it is not even an f32.
-fn distance(d: f64) -> String {
-    if d.is_finite() {
-        format!("{d:.1e}")
-    } else {
-        "farther than f32 can say".to_string()
+    /// The error for `what` (a sentence's start) at `distance` from the origin.
+    fn too_far(&mut self, span: Span, what: &str, distance: f64) {
+        let distance = if distance.is_finite() {
+            format!("{distance:.1e}")
+        } else {
+            "farther than f32 can say".to_string()
+        };
+        self.diagnostics.push(
+            Diagnostic::error(
+                Code::Range,
+                span,
+                format!(
+                    "{what} {distance} from the origin, beyond the coordinate limit \
+                     ±{MAX_COORDINATE:e}"
+                ),
+            )
+            .label("too far from the origin")
+            .help(HELP.to_string()),
+        );
     }
 }
