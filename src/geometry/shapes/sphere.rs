@@ -195,9 +195,9 @@ mod tests {
             ..ball
         };
         assert!(!hollow.surely_holds(ball.center));
-        // A unit ball 1e6 from the origin: a point 0.5 from its centre is
-        // less than the rounding of its coordinates (about 0.12) inside?
-        // No, but 8 ε of 2e6 is 1.9: nothing there is sure.
+        // A unit ball 1e6 from the origin: the margin, 8 ε of the
+        // coordinates' size (2e6), is 1.9, more than the radius, so not even
+        // a point half a radius from the centre is sure.
         let far = Sphere {
             center: Vec3::splat(1e6),
             radius: 1.0,
