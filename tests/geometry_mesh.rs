@@ -74,7 +74,7 @@ fn mesh_scene(mesh: MeshData) -> (Scene, Arc<MeshData>) {
 fn rays_leaving_a_mesh_far_from_the_origin_do_not_rehit_it() {
     let center = Vec3::new(1e5, -1e5, 1e5);
     let (scene, _) = mesh_scene(ball(2, center, 10.0));
-    let world = World::build(&scene).expect("builds");
+    let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
     let mut rng = Rng::for_sample(2, 0, 0, 0);
     for _ in 0..2000 {
         let origin = center + rng.unit_vector() * 40.0;
@@ -116,7 +116,7 @@ fn transforms_place_shapes_and_normals_and_instances_share_geometry() {
             }),
         })
         .collect();
-    let world = World::build(&s).expect("builds");
+    let world = World::build_in(&s, Vec3::ZERO).expect("builds");
     let h = world
         .intersect(
             &Ray::new(Vec3::new(10.0, 0.0, -5000.0), Vec3::NEG_X, 0.0),

@@ -135,7 +135,7 @@ fn world_of(mesh: &MeshData) -> World {
         mesh: id,
         materials: vec![m],
     }];
-    World::build(&s).expect("builds")
+    World::build_in(&s, Vec3::ZERO).expect("builds")
 }
 
 /// Points exactly on shared features, each with the faces around it: every

@@ -224,7 +224,7 @@ fn world_of(shape: Shape, matrix: Mat4) -> World {
         matrix,
         child: Box::new(Node::Shape { shape, material }),
     }];
-    World::build(&s).expect("builds")
+    World::build_in(&s, Vec3::ZERO).expect("builds")
 }
 
 /// A rotation about a skew axis, a non-uniform scale and a translation.

@@ -2,6 +2,13 @@
 //! rays leave surfaces by their hit points' error bounds, not by a fraction
 //! of |p|, and shadow rays are segments between two offset points.
 //!
+//! Each case runs in two frames. In the camera's (what `rtlang render`
+//! builds, [`World::build`]) a scene far from the origin but near its
+//! camera is near the frame's origin, so these cases hold by construction
+//! and test the move into the frame. In the scene's own coordinates
+//! (`World::build_in` at the origin) the same geometry stays far away, so
+//! they test the error bounds and offsets themselves.
+//!
 //! The metric is a z-test on 8×8 block means: each configuration is rendered
 //! with `SEEDS` seeds, a pixel's variance is estimated from the spread over
 //! the seeds, and a block mean's variance is the sum of its pixels' over the
@@ -32,7 +39,22 @@ struct Blocks {
     var: Vec<Vec3>,
 }
 
-fn render_seed(file: &str, defines: &[(&str, &str)], nee: bool, seed: u64) -> Vec<Vec3> {
+/// The frame a world is built in.
+#[derive(Clone, Copy, Debug)]
+enum Frame {
+    /// The camera's position is the origin (the renderer's default).
+    Camera,
+    /// Scene coordinates.
+    Scene,
+}
+
+fn render_seed(
+    file: &str,
+    defines: &[(&str, &str)],
+    frame: Frame,
+    nee: bool,
+    seed: u64,
+) -> Vec<Vec3> {
     let options = Options {
         defines: defines
             .iter()
@@ -46,7 +68,11 @@ fn render_seed(file: &str, defines: &[(&str, &str)], nee: bool, seed: u64) -> Ve
     let scene = load_scene_with(&path, &options)
         .unwrap_or_else(|e| panic!("{e:?}"))
         .scene;
-    let world = World::build(&scene).expect("builds");
+    let world = match frame {
+        Frame::Camera => World::build(&scene),
+        Frame::Scene => World::build_in(&scene, Vec3::ZERO),
+    }
+    .expect("builds");
     let opts = RenderOptions {
         width: SIZE,
         height: SIZE,
@@ -62,9 +88,9 @@ fn render_seed(file: &str, defines: &[(&str, &str)], nee: bool, seed: u64) -> Ve
 
 /// Renders with seeds `first..first + SEEDS`: references and the renders
 /// compared with them use disjoint seeds, so their noise is independent.
-fn blocks(file: &str, defines: &[(&str, &str)], nee: bool, first: u64) -> Blocks {
+fn blocks(file: &str, defines: &[(&str, &str)], frame: Frame, nee: bool, first: u64) -> Blocks {
     let runs: Vec<Vec<Vec3>> = (0..SEEDS)
-        .map(|s| render_seed(file, defines, nee, first + s))
+        .map(|s| render_seed(file, defines, frame, nee, first + s))
         .collect();
     let k = SEEDS as f32;
     let n = SIZE / BLOCK;
@@ -122,51 +148,96 @@ fn brightness(b: &Blocks) -> f32 {
     b.mean.iter().map(|m| m.element_sum()).sum::<f32>() / (3 * b.mean.len()) as f32
 }
 
-#[test]
-fn a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height_with_both_integrators() {
-    let reference = blocks("far_floor.rt", &[("h", "0")], true, REFERENCE_SEED);
+/// A floor lit by a small one-sided lamp at heights up to 1e6.
+fn floor_matches_at_every_height(frame: Frame) {
+    let reference = blocks("far_floor.rt", &[("h", "0")], frame, true, REFERENCE_SEED);
     assert!(brightness(&reference) > 0.05, "the lit floor is not black");
     for h in ["0", "1e2", "1e4", "1e6"] {
-        // At 1e6 the floor's f32 grid is 1/16 unit: the camera's rays and
-        // the lamp's corners are that coarse, yet the picture must hold.
-        let nee = blocks("far_floor.rt", &[("h", h)], true, SEED);
-        let path = blocks("far_floor.rt", &[("h", h)], false, SEED);
-        assert_agree(&format!("floor at {h}: nee vs path"), &nee, &path);
+        // At 1e6 the floor's f32 grid is 1/16 unit: in scene coordinates the
+        // camera's rays and the lamp's corners are that coarse, yet the
+        // picture must hold.
+        let nee = blocks("far_floor.rt", &[("h", h)], frame, true, SEED);
+        let path = blocks("far_floor.rt", &[("h", h)], frame, false, SEED);
+        assert_agree(
+            &format!("{frame:?} frame, floor at {h}: nee vs path"),
+            &nee,
+            &path,
+        );
         if h != "0" {
-            assert_agree(&format!("floor at {h} vs 0 (nee)"), &nee, &reference);
+            let what = format!("{frame:?} frame, floor at {h} vs 0 (nee)");
+            assert_agree(&what, &nee, &reference);
         }
     }
 }
 
 #[test]
-fn the_cornell_box_far_from_the_origin_matches_it_at_the_origin() {
-    let reference = blocks("far_cornell.rt", &[("d", "0")], true, REFERENCE_SEED);
+fn a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height_with_both_integrators() {
+    floor_matches_at_every_height(Frame::Camera);
+}
+
+#[test]
+fn in_scene_coordinates_a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height() {
+    floor_matches_at_every_height(Frame::Scene);
+}
+
+fn cornell_matches_far_away(frame: Frame) {
+    let reference = blocks("far_cornell.rt", &[("d", "0")], frame, true, REFERENCE_SEED);
     assert!(brightness(&reference) > 0.05, "the box is not black");
     for d in ["1e3", "1e4", "1e5"] {
-        let far = blocks("far_cornell.rt", &[("d", d)], true, SEED);
-        assert_agree(&format!("Cornell box moved by {d}"), &far, &reference);
+        let far = blocks("far_cornell.rt", &[("d", d)], frame, true, SEED);
+        assert_agree(
+            &format!("{frame:?} frame, Cornell box moved by {d}"),
+            &far,
+            &reference,
+        );
     }
 }
 
+#[test]
+fn the_cornell_box_far_from_the_origin_matches_it_at_the_origin() {
+    cornell_matches_far_away(Frame::Camera);
+}
+
+#[test]
+fn in_scene_coordinates_the_cornell_box_far_from_the_origin_matches_it_at_the_origin() {
+    cornell_matches_far_away(Frame::Scene);
+}
+
 /// A glass ball and its scene, sized by `r`, at `x` against the same at 0.
-fn ball_matches_at_origin(x: &str, r: &str) {
-    let reference = blocks("far_ball.rt", &[("x", "0"), ("r", r)], true, REFERENCE_SEED);
+fn ball_matches_at_origin(frame: Frame, x: &str, r: &str) {
+    let at_origin = [("x", "0"), ("r", r)];
+    let reference = blocks("far_ball.rt", &at_origin, frame, true, REFERENCE_SEED);
     assert!(brightness(&reference) > 0.05, "the ball scene is not black");
-    let far = blocks("far_ball.rt", &[("x", x), ("r", r)], true, SEED);
-    assert_agree(&format!("glass ball r = {r} at {x}"), &far, &reference);
+    let far = blocks("far_ball.rt", &[("x", x), ("r", r)], frame, true, SEED);
+    assert_agree(
+        &format!("{frame:?} frame, glass ball r = {r} at {x}"),
+        &far,
+        &reference,
+    );
 }
 
 #[test]
 fn a_glass_ball_of_radius_one_at_1e5_matches_the_same_ball_at_the_origin() {
-    ball_matches_at_origin("1e5", "1");
+    ball_matches_at_origin(Frame::Camera, "1e5", "1");
 }
 
-/// At x = 1e3 the f32 grid is 6.1e-5, 6% of this ball's radius: hit points
-/// and their offsets (about three grid steps) move its refraction visibly
-/// less than the old push-off did (a flat disc), but measurably: max |z| 9.0,
-/// mean z² 6.2 in session 11. Open (see docs/testing.md).
 #[test]
-#[ignore = "known to fail: a ball of 16 f32 steps in radius refracts measurably differently"]
+fn in_scene_coordinates_a_glass_ball_of_radius_one_at_1e5_matches_the_same_ball_at_the_origin() {
+    ball_matches_at_origin(Frame::Scene, "1e5", "1");
+}
+
+#[test]
 fn a_glass_ball_of_radius_1e_minus_3_at_1e3_matches_the_same_ball_at_the_origin() {
-    ball_matches_at_origin("1e3", "1e-3");
+    ball_matches_at_origin(Frame::Camera, "1e3", "1e-3");
+}
+
+/// In scene coordinates, at x = 1e3 the f32 grid is 6.1e-5, 6% of this
+/// ball's radius: hit points and their offsets (about three grid steps)
+/// move its refraction measurably: max |z| 9.0, mean z² 6.2 in session 11.
+/// The camera's frame, which the renderer uses, passes (the test above).
+#[test]
+#[ignore = "known to fail in scene coordinates: a ball of 16 f32 steps in radius refracts measurably differently"]
+fn in_scene_coordinates_a_glass_ball_of_radius_1e_minus_3_at_1e3_matches_the_same_ball_at_the_origin(
+) {
+    ball_matches_at_origin(Frame::Scene, "1e3", "1e-3");
 }

@@ -3,11 +3,20 @@
 //! static transforms into one matrix, and builds each prototype once. The
 //! same walk collects the emitters ([`Emitters`]) and gives each emissive
 //! primitive or triangle the [`LightId`] its hits carry.
+//!
+//! The world is built in a frame whose origin is a chosen scene point,
+//! normally the camera's position (pbrt-v4's camera-world space): the walk
+//! moves every top-level object by `−origin` as it builds it, baking the
+//! move into shapes, planes, meshes and the matrices of transforms and
+//! motions. f32 coordinates are then finest where the picture is made, so
+//! a small object next to a camera far from the scene's origin keeps its
+//! precision, and the error an object's distance brings stays below what
+//! that distance makes visible.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use glam::{Affine3A, Mat4};
+use glam::{Affine3A, Mat4, Vec3};
 
 use super::bake::{flatten, primitive, Baked};
 use super::emitter::{is_light, Emitters, LightId, Placed, Source};
@@ -22,8 +31,9 @@ use super::shapes::Plane;
 use super::sweep::swept_bounds;
 use super::{Aabb, Hit, Ray};
 use crate::scene::motion::CompiledMotion;
+use crate::scene::motion::{MotionStep, Program};
 use crate::scene::object::RevolutionMode;
-use crate::scene::{MaterialId, MeshData, Node, ProtoId, Scene, Shape};
+use crate::scene::{MaterialId, MeshData, MeshId, Motion, Node, ProtoId, Scene, Shape};
 
 /// Why a scene's geometry could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -40,16 +50,26 @@ pub enum BuildError {
     RecursivePrototype(u32),
 }
 
-/// The whole scene's geometry, ready to intersect.
+/// The whole scene's geometry, ready to intersect, in the frame whose
+/// origin is the scene point [`World::origin`]: rays, hits and emitters are
+/// all in that frame.
 pub struct World {
     root: Root,
     revolutions: Vec<Arc<RevolutionSurface>>,
     emitters: Emitters,
+    origin: Vec3,
 }
 
 impl World {
-    /// Builds the geometry of `scene`'s objects.
+    /// Builds the geometry of `scene`'s objects in the frame of its camera's
+    /// position (see the module doc).
     pub fn build(scene: &Scene) -> Result<World, BuildError> {
+        World::build_in(scene, scene.camera.from)
+    }
+
+    /// Builds the geometry of `scene`'s objects in the frame whose origin is
+    /// the scene point `origin` (`Vec3::ZERO` keeps scene coordinates).
+    pub fn build_in(scene: &Scene, origin: Vec3) -> Result<World, BuildError> {
         let mut b = Builder {
             scene,
             shutter: scene.camera.shutter,
@@ -57,13 +77,25 @@ impl World {
             in_progress: Vec::new(),
             revolutions: Vec::new(),
             placed: Vec::new(),
+            moved_meshes: HashMap::new(),
         };
-        let root = b.instance(scene.objects.iter(), &At::WORLD)?;
+        let at = At {
+            shift: -origin,
+            ..At::WORLD
+        };
+        let root = b.instance(scene.objects.iter(), &at)?;
         Ok(World {
             root: Root::new(root),
             revolutions: b.revolutions,
             emitters: Emitters::finish(scene, &b.placed),
+            origin,
         })
+    }
+
+    /// The scene point at this frame's origin: a point `p` of the frame is
+    /// the scene point `p + origin`.
+    pub fn origin(&self) -> Vec3 {
+        self.origin
     }
 
     /// The emitters, numbered as the [`Hit::light`]s that name them.
@@ -149,6 +181,9 @@ struct Builder<'a> {
     /// The emitters found so far, numbered in the space being built (the
     /// world's, or a prototype's while it is built).
     placed: Vec<Placed>,
+    /// Each mesh placed bare at the world level, its vertices moved into
+    /// the world's frame (one copy however often it is placed).
+    moved_meshes: HashMap<MeshId, Arc<MeshData>>,
 }
 
 /// What the walk does with the emitters below a node.
@@ -162,11 +197,14 @@ enum Emitting {
     Hidden,
 }
 
-/// Where the walk is: the map from the current space to the space the
-/// emitters are numbered in, the flips around it, and what to do with
-/// emitters.
+/// Where the walk is: the move from the current space into the space it is
+/// built in, the map from that space to the space the emitters are
+/// numbered in, the flips around it, and what to do with emitters.
 #[derive(Clone, Copy)]
 struct At {
+    /// Zero except at the world level, where objects move by `−origin`
+    /// into the world's frame; a matrix below takes the move into itself.
+    shift: Vec3,
     to_space: Affine3A,
     flips: u32,
     emitting: Emitting,
@@ -174,10 +212,24 @@ struct At {
 
 impl At {
     const WORLD: At = At {
+        shift: Vec3::ZERO,
         to_space: Affine3A::IDENTITY,
         flips: 0,
         emitting: Emitting::Listed,
     };
+
+    /// The move as a matrix.
+    fn moved(&self) -> Mat4 {
+        Mat4::from_translation(self.shift)
+    }
+
+    /// Inside a node whose matrix has taken the move into itself.
+    fn unmoved(self) -> At {
+        At {
+            shift: Vec3::ZERO,
+            ..self
+        }
+    }
 
     /// Below a node that lists fewer emitters: a hidden one stays hidden.
     fn with(self, emitting: Emitting) -> At {
@@ -274,21 +326,32 @@ impl Builder<'_> {
         prims: &mut Vec<Baked>,
         items: &mut Vec<Instance>,
     ) -> Result<(), BuildError> {
+        let moving = at.shift != Vec3::ZERO;
         match node {
+            // A move keeps a bounded shape a shape of this space's set; an
+            // analytic surface of revolution gets an instance for it.
+            Node::Shape { shape, .. }
+                if moving
+                    && (primitive(shape).is_some()
+                        || matches!(
+                            shape,
+                            Shape::Revolution {
+                                mode: RevolutionMode::Analytic { .. },
+                                ..
+                            }
+                        )) =>
+            {
+                self.placed_by(at.moved(), node, at, prims, items)?
+            }
             Node::Shape { shape, material } => self.shape(shape, *material, at, prims, items)?,
             Node::Mesh { mesh, materials } => {
-                let data = self
-                    .scene
-                    .meshes
-                    .get(mesh.0 as usize)
-                    .ok_or(BuildError::MissingMesh(mesh.0))?;
+                let data = self.mesh(*mesh, at.shift)?;
                 if materials.is_empty() {
                     return Err(BuildError::MeshWithoutMaterial);
                 }
-                let lights = self.mesh_emitters(data, materials, at);
-                let geometry = Geometry::Mesh(
-                    MeshGeometry::new(data.clone(), materials.clone()).with_lights(lights),
-                );
+                let lights = self.mesh_emitters(&data, materials, at);
+                let geometry =
+                    Geometry::Mesh(MeshGeometry::new(data, materials.clone()).with_lights(lights));
                 items.push(self.placed(geometry, Placement::Identity));
             }
             Node::Group(children) => {
@@ -296,27 +359,20 @@ impl Builder<'_> {
                     self.collect(c, at, prims, items)?;
                 }
             }
-            // Shapes that survive the matrix exactly join this space's
-            // primitives; anything else becomes a placed instance.
             Node::Transform { matrix, child } => {
-                if !self.flatten(matrix, child, at, prims) {
-                    let inner_at = At {
-                        to_space: at.to_space * Affine3A::from_mat4(*matrix),
-                        ..*at
-                    };
-                    let inner = self.instance(std::iter::once(&**child), &inner_at)?;
-                    items.push(self.transform(*matrix, inner)?);
-                }
+                self.placed_by(at.moved() * *matrix, child, at, prims, items)?
             }
             Node::Motion { motion, child } => {
                 // Light sampling does not follow a motion, not even one
                 // that turns out to stand still.
                 let at = at.with(Emitting::Hidden);
-                let compiled = CompiledMotion::new(motion);
-                if compiled.is_identity() {
+                if CompiledMotion::new(motion).is_identity() {
                     return self.collect(child, &at, prims, items);
                 }
-                let inner = self.instance(std::iter::once(&**child), &at)?;
+                // The world's move becomes the motion's last, fixed step.
+                let motion = &moved_motion(motion, at.shift);
+                let compiled = CompiledMotion::new(motion);
+                let inner = self.instance(std::iter::once(&**child), &at.unmoved())?;
                 // A motion that does not depend on time is a static transform
                 // and costs nothing per ray.
                 if let Some(matrix) = compiled.fixed() {
@@ -342,9 +398,10 @@ impl Builder<'_> {
                 let medium = Medium::new(self.unplaced(inner), *density, *material);
                 items.push(self.placed(Geometry::Medium(medium), Placement::Identity));
             }
+            Node::Instance(_) if moving => self.placed_by(at.moved(), node, at, prims, items)?,
             Node::Instance(id) => items.push(self.prototype(*id, at)?),
             Node::Flip(child) => {
-                if self.flatten(&Mat4::IDENTITY, node, at, prims) {
+                if self.flatten(&at.moved(), node, at, prims) {
                     return Ok(());
                 }
                 let inner_at = At {
@@ -357,6 +414,45 @@ impl Builder<'_> {
             }
         }
         Ok(())
+    }
+
+    /// `child` placed by `matrix` (which has taken in the current space's
+    /// move): shapes that survive the matrix exactly join this space's
+    /// primitives; anything else becomes a placed instance.
+    fn placed_by(
+        &mut self,
+        matrix: Mat4,
+        child: &Node,
+        at: &At,
+        prims: &mut Vec<Baked>,
+        items: &mut Vec<Instance>,
+    ) -> Result<(), BuildError> {
+        if !self.flatten(&matrix, child, at, prims) {
+            let inner_at = At {
+                to_space: at.to_space * Affine3A::from_mat4(matrix),
+                ..at.unmoved()
+            };
+            let inner = self.instance(std::iter::once(child), &inner_at)?;
+            items.push(self.transform(matrix, inner)?);
+        }
+        Ok(())
+    }
+
+    /// Mesh `id`'s data, its vertices moved by `shift` (a copy, made once).
+    fn mesh(&mut self, id: MeshId, shift: Vec3) -> Result<Arc<MeshData>, BuildError> {
+        let data = self
+            .scene
+            .meshes
+            .get(id.0 as usize)
+            .ok_or(BuildError::MissingMesh(id.0))?;
+        if shift == Vec3::ZERO {
+            return Ok(data.clone());
+        }
+        let moved = self
+            .moved_meshes
+            .entry(id)
+            .or_insert_with(|| Arc::new(moved_mesh((**data).clone(), shift)));
+        Ok(moved.clone())
     }
 
     /// The light id of each triangle of the mesh `data` whose slots map to
@@ -397,7 +493,7 @@ impl Builder<'_> {
         let prim = match shape {
             Shape::Plane { point, normal } => {
                 let plane = Plane {
-                    point: *point,
+                    point: *point + at.shift,
                     normal: normal.normalize_or(glam::Vec3::Y),
                 };
                 items.push(self.placed(Geometry::Plane { plane, material }, Placement::Identity));
@@ -406,7 +502,7 @@ impl Builder<'_> {
             Shape::Revolution { curve, mode } => {
                 let geometry = match *mode {
                     RevolutionMode::Mesh { resolution } => {
-                        let mesh = Arc::new(tessellate(curve, resolution));
+                        let mesh = Arc::new(moved_mesh(tessellate(curve, resolution), at.shift));
                         Geometry::Mesh(MeshGeometry::new(mesh, vec![material]))
                     }
                     RevolutionMode::Analytic {
@@ -495,6 +591,24 @@ impl Builder<'_> {
     }
 }
 
+/// `data` with every vertex moved by `shift`.
+fn moved_mesh(mut data: MeshData, shift: Vec3) -> MeshData {
+    for p in &mut data.positions {
+        *p += shift;
+    }
+    data
+}
+
+/// `motion` followed by the fixed move `shift` (itself when there is none).
+fn moved_motion(motion: &Motion, shift: Vec3) -> Motion {
+    let mut motion = motion.clone();
+    if shift != Vec3::ZERO {
+        let step = MotionStep::Translate(shift.to_array().map(Program::constant));
+        motion.steps.push(step);
+    }
+    motion
+}
+
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
@@ -551,7 +665,7 @@ mod tests {
             material: light,
         });
         scene.objects = vec![moved(10.0, 0.0, Node::Instance(ProtoId(0)))];
-        let world = World::build(&scene).expect("builds");
+        let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
         assert!(matches!(world.root, Root::Placed(_)));
         assert_eq!(
             centre(emitter_below(&world, 10.0, 0.0)),
@@ -564,7 +678,7 @@ mod tests {
         assert!(!world.occluded(&down(0.0), 0.0, 100.0, &mut media));
         // The prototype placed without a transform: the root is its geometry.
         scene.objects = vec![Node::Instance(ProtoId(0))];
-        let world = World::build(&scene).expect("builds");
+        let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
         assert!(matches!(world.root, Root::Bare(_)));
         assert_eq!(centre(emitter_below(&world, 0.0, 0.0)), Some(Vec3::ZERO));
         assert!(world.occluded(&down(0.0), 0.0, 100.0, &mut media));
@@ -601,7 +715,7 @@ mod tests {
             moved(20.0, 0.0, Node::Instance(ProtoId(1))),
             Node::Instance(ProtoId(0)),
         ];
-        let world = World::build(&scene).expect("builds");
+        let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
         let want = [
             (10.0, 0.0),
             (12.0, 1.0),
@@ -654,7 +768,7 @@ mod tests {
                 },
             ),
         ];
-        let world = World::build(&scene).expect("builds");
+        let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
         match emitter_below(&world, 3.0, 0.0).map(|e| e.shape) {
             Some(LightShape::Parallelogram { corner, normal, .. }) => {
                 assert_eq!((corner, normal), (Vec3::new(2.5, 2.0, -0.5), Vec3::NEG_Y))
@@ -672,7 +786,7 @@ mod tests {
             motion: Motion::default(),
             child: Box::new(moved(9.0, 0.0, scene.objects[1].clone())),
         });
-        let world = World::build(&scene).expect("builds");
+        let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
         assert_eq!(world.emitters().list.len(), 2);
         let hit = world.intersect(
             &Ray::new(Vec3::new(6.0, 5.0, 0.0), Vec3::NEG_Y, 0.0),
@@ -684,5 +798,190 @@ mod tests {
             emitter_below(&world, -3.0, 0.0).map(|e| e.shape),
             Some(LightShape::Triangle { .. })
         ));
+    }
+
+    /// Every kind of node, built in a frame far from the scene's origin,
+    /// stands where it stands in scene coordinates: the same rays (moved
+    /// into the frame) hit the same surfaces at the same distances and
+    /// points, with the same light ids, emitters and medium stretches.
+    #[test]
+    fn every_kind_of_node_built_in_a_moved_frame_stands_where_it_stood() {
+        let (mut scene, light) = lit();
+        let grey = MaterialId(1);
+        let ball = |x: f32, material| Node::Shape {
+            shape: Shape::Sphere {
+                center: Vec3::new(x, 0.0, 0.0),
+                radius: 0.5,
+            },
+            material,
+        };
+        let rect = |x: f32| Node::Shape {
+            shape: Shape::Rect {
+                plane: RectPlane::Xz,
+                a: (x - 0.5, x + 0.5),
+                b: (-0.5, 0.5),
+                k: 0.0,
+            },
+            material: light,
+        };
+        let mesh = scene.add_mesh(Arc::new(MeshData {
+            positions: vec![
+                Vec3::new(11.0, 1.0, -1.0),
+                Vec3::new(13.0, 1.0, -1.0),
+                Vec3::new(12.0, 1.0, 1.0),
+            ],
+            triangles: vec![[0, 2, 1]],
+            ..MeshData::default()
+        }));
+        let mesh = Node::Mesh {
+            mesh,
+            materials: vec![light],
+        };
+        let profile = |y: f32| crate::scene::Bezier {
+            points: vec![
+                glam::Vec2::new(1.0, y),
+                glam::Vec2::new(1.5, y + 0.5),
+                glam::Vec2::new(1.5, y + 1.5),
+                glam::Vec2::new(1.0, y + 2.0),
+            ],
+        };
+        let proto = scene.add_prototype(ball(27.0, light));
+        let time = Program::time();
+        let zero = Program::constant(0.0);
+        scene.objects = vec![
+            ball(0.0, light),
+            rect(3.0),
+            Node::Shape {
+                shape: Shape::Cuboid {
+                    min: Vec3::new(5.5, -0.5, -0.5),
+                    max: Vec3::new(6.5, 0.5, 0.5),
+                },
+                material: grey,
+            },
+            Node::Shape {
+                shape: Shape::Triangle {
+                    vertices: [
+                        Vec3::new(8.0, 0.0, -1.0),
+                        Vec3::new(9.0, 0.0, 1.0),
+                        Vec3::new(10.0, 0.0, -1.0),
+                    ],
+                },
+                material: light,
+            },
+            mesh.clone(),
+            Node::Shape {
+                shape: Shape::Revolution {
+                    curve: profile(-10.0),
+                    mode: RevolutionMode::Mesh { resolution: 16 },
+                },
+                material: grey,
+            },
+            Node::Shape {
+                shape: Shape::Revolution {
+                    curve: profile(-20.0),
+                    mode: RevolutionMode::Analytic {
+                        resolution: 8,
+                        tolerance: 1e-5,
+                    },
+                },
+                material: grey,
+            },
+            moved(18.0, 0.0, ball(0.0, grey)),
+            moved(21.0, 0.0, mesh),
+            Node::Motion {
+                motion: Motion {
+                    steps: vec![MotionStep::Translate([time, zero.clone(), zero])],
+                },
+                child: Box::new(ball(24.0, grey)),
+            },
+            Node::Instance(proto),
+            Node::Medium {
+                boundary: Box::new(ball(30.0, grey)),
+                density: 0.5,
+                material: grey,
+            },
+            Node::Flip(Box::new(rect(33.0))),
+            Node::Shape {
+                shape: Shape::Plane {
+                    point: Vec3::new(0.0, -30.0, 0.0),
+                    normal: Vec3::Y,
+                },
+                material: grey,
+            },
+        ];
+        let mut rays: Vec<Ray> = (0..12)
+            .map(|i| Ray::new(Vec3::new(3.0 * i as f32, 50.0, 0.1), Vec3::NEG_Y, 0.2))
+            .collect();
+        rays.extend([-9.0, -19.0].map(|y| Ray::new(Vec3::new(-50.0, y, 0.1), Vec3::X, 0.0)));
+        rays.push(Ray::new(
+            Vec3::new(40.0, 5.0, 3.0),
+            Vec3::new(-1.0, -0.2, -0.1),
+            0.5,
+        ));
+        let origin = Vec3::new(1000.0, 250.0, -500.0);
+        let here = World::build_in(&scene, Vec3::ZERO).expect("builds");
+        let there = World::build_in(&scene, origin).expect("builds");
+        assert_eq!(there.origin(), origin);
+        let emitters = |w: &World| w.emitters().list.len();
+        assert_eq!(emitters(&here), emitters(&there));
+        assert!(emitters(&here) >= 5, "{}", emitters(&here));
+        let anchor = |w: &World, h: &Hit| {
+            let e = w.emitters().list[h.light.index()?]?;
+            Some(
+                match e.shape {
+                    LightShape::Sphere { center, .. } => center,
+                    LightShape::Parallelogram { corner, .. } => corner,
+                    LightShape::Triangle { v, .. } => v[0],
+                } + w.origin(),
+            )
+        };
+        let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 2e-3;
+        let (mut hits, mut stretches) = (0, 0);
+        for ray in &rays {
+            let moved_ray = Ray::new(ray.origin - origin, ray.dir, ray.time);
+            let (mut m1, mut m2) = (MediumSegments::default(), MediumSegments::default());
+            let a = here.intersect_in_media(ray, 0.0, f32::INFINITY, &mut m1);
+            let b = there.intersect_in_media(&moved_ray, 0.0, f32::INFINITY, &mut m2);
+            let (Some(a), Some(b)) = (a, b) else {
+                panic!("{ray:?}: {a:?} against {b:?}");
+            };
+            hits += 1;
+            assert!(
+                (a.t - b.t).abs() < 2e-3,
+                "{ray:?}: t {} against {}",
+                a.t,
+                b.t
+            );
+            assert!(
+                close(a.point, b.point + origin),
+                "{ray:?}: {} {}",
+                a.point,
+                b.point
+            );
+            assert_eq!(
+                (a.material, a.front_face),
+                (b.material, b.front_face),
+                "{ray:?}"
+            );
+            assert_eq!(
+                a.light.index().is_some(),
+                b.light.index().is_some(),
+                "{ray:?}"
+            );
+            match (anchor(&here, &a), anchor(&there, &b)) {
+                (Some(p), Some(q)) => assert!(close(p, q), "{ray:?}: emitter {p} against {q}"),
+                (p, q) => assert_eq!(p.is_some(), q.is_some(), "{ray:?}"),
+            }
+            let (s1, s2) = (m1.as_slice(), m2.as_slice());
+            assert_eq!(s1.len(), s2.len(), "{ray:?}");
+            for (x, y) in s1.iter().zip(s2) {
+                assert!(
+                    (x.t0 - y.t0).abs() < 2e-3 && (x.t1 - y.t1).abs() < 2e-3,
+                    "{ray:?}"
+                );
+                stretches += 1;
+            }
+        }
+        assert_eq!((hits, stretches), (rays.len(), 1));
     }
 }

@@ -7,6 +7,8 @@
 
 use std::collections::HashMap;
 
+use glam::Vec3;
+
 use crate::geometry::{BuildError, Hit, Ray, World};
 use crate::scene::{Material, MaterialId, Node, ProtoId, Scene};
 
@@ -16,8 +18,9 @@ pub struct PickWorld {
 }
 
 impl PickWorld {
-    /// Builds the tagged copy of `scene`.
-    pub fn build(scene: &Scene) -> Result<PickWorld, BuildError> {
+    /// Builds the tagged copy of `scene` in the frame whose origin is the
+    /// scene point `frame` (the rendered world's).
+    pub fn build(scene: &Scene, frame: Vec3) -> Result<PickWorld, BuildError> {
         let mut tagged = Scene {
             settings: scene.settings.clone(),
             camera: scene.camera,
@@ -36,7 +39,7 @@ impl PickWorld {
         // Non-emitting placeholders, so the copy has no lights to sample.
         tagged.materials = vec![Material::Dielectric { ior: 1.0 }; scene.objects.len()];
         Ok(PickWorld {
-            world: World::build(&tagged)?,
+            world: World::build_in(&tagged, frame)?,
         })
     }
 
@@ -136,7 +139,7 @@ mod tests {
                 child: Box::new(Node::Instance(proto)),
             },
         ];
-        let pick = PickWorld::build(&scene).expect("the tagged scene builds");
+        let pick = PickWorld::build(&scene, Vec3::ZERO).expect("the tagged scene builds");
         let at = |x: f32| {
             let ray = Ray::new(Vec3::new(x, 0.0, 0.0), Vec3::new(0.0, 0.0, -1.0), 0.0);
             pick.pick(&ray).map(|(i, h)| (i, h.t))

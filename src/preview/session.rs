@@ -390,8 +390,11 @@ impl Session {
             "std_error": e.std_error.to_array().map(|v| if v.is_finite() { Some(v) } else { None }),
             "samples": e.kept,
         });
-        let ray = probe::first_ray(&good.scene, &options, x, y);
-        let picker = good.pick.get_or_init(|| PickWorld::build(&good.scene).ok());
+        let frame = good.world.origin();
+        let ray = probe::first_ray(&good.scene, &options, x, y, frame);
+        let picker = good
+            .pick
+            .get_or_init(|| PickWorld::build(&good.scene, frame).ok());
         let Some((index, tagged)) = picker.as_ref().and_then(|p| p.pick(&ray)) else {
             return Some(out);
         };
@@ -405,7 +408,7 @@ impl Session {
         out["kind"] = json!(good.scene.objects.get(index).map_or("?".into(), kind));
         out["material"] = json!(material.map(|m| format!("{m:?}")));
         out["distance"] = json!(hit.t);
-        out["point"] = json!(hit.point.to_array());
+        out["point"] = json!((hit.point + frame).to_array());
         out["normal"] = json!(hit.normal.to_array());
         if let Some(&span) = good.objects.get(index) {
             let file = good.sources.file(span.file);
@@ -429,8 +432,11 @@ fn options_for(scene: &Scene, controls: Controls) -> RenderOptions {
     options
 }
 
-/// A digest of what [`World::build`] reads: all but the camera's placement
-/// and the render settings.
+/// A digest of what [`World::build`] reads but the camera's position (and
+/// the render settings): a world reused after the camera moved keeps the
+/// frame it was built in, and camera rays are made in that frame
+/// ([`World::origin`]), so the picture is the same; a fresh build would
+/// only round coordinates finer near the new position.
 fn geometry_key(scene: &Scene) -> u64 {
     let mut h = Fnv::default();
     let _ = write!(

@@ -107,8 +107,10 @@ fn hit_errors(scene: &Scene, options: &RenderOptions) -> Result<(f64, f64, usize
     if curves.is_empty() {
         return Err(AccuracyError::NoRevolution);
     }
-    let world = World::build(&only)?;
-    let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    // In scene coordinates, the curves' own: the distance measures the
+    // surface's intersection, not the frame's rounding.
+    let world = World::build_in(&only, Vec3::ZERO)?;
+    let camera = CameraRays::new(&scene.camera, options.width, options.height, world.origin());
     let (mut max, mut sum, mut hits) = (0.0f64, 0.0, 0usize);
     for y in 0..options.height {
         for x in 0..options.width {

@@ -26,7 +26,11 @@ pub struct CameraRays {
 }
 
 impl CameraRays {
-    pub fn new(cam: &Camera, width: u32, height: u32) -> CameraRays {
+    /// The rays of `cam` for a `width` × `height` image, in the frame whose
+    /// origin is the scene point `frame` (a world's [`origin`]).
+    ///
+    /// [`origin`]: crate::geometry::World::origin
+    pub fn new(cam: &Camera, width: u32, height: u32, frame: Vec3) -> CameraRays {
         let aspect = width as f32 / height.max(1) as f32;
         let h = (cam.vfov.to_radians() / 2.0).tan();
         let viewport_h = 2.0 * h;
@@ -40,7 +44,7 @@ impl CameraRays {
         let horizontal = focus * viewport_w * u;
         let vertical = focus * viewport_h * v;
         CameraRays {
-            origin: cam.from,
+            origin: cam.from - frame,
             lower_left: -horizontal / 2.0 - vertical / 2.0 - focus * w,
             horizontal,
             vertical,
@@ -93,7 +97,7 @@ mod tests {
             shutter: (0.25, 0.5),
             ..Camera::default()
         };
-        let rays = CameraRays::new(&cam, 101, 101);
+        let rays = CameraRays::new(&cam, 101, 101, Vec3::ZERO);
         for i in 0..100 {
             let mut sampler = Sampler::for_sample(SamplerKind::Sobol, 0, 50, 50, i);
             let r = rays.ray(50, 50, &mut sampler);

@@ -132,7 +132,7 @@ impl<'a> Tracer<'a> {
                 return (radiance, rays);
             };
             sampler.begin(Dim::Bsdf);
-            let bsdf = material::bsdf(self.scene, &hit);
+            let bsdf = material::bsdf(self.scene, &hit, self.world.origin());
             let wo = -ray.dir;
             let sample = bsdf.sample_from(wo, sampler);
             let emitted = bsdf.emitted();

@@ -521,7 +521,7 @@ mod tests {
     }
 
     fn world(scene: &Scene) -> World {
-        World::build(scene).expect("a world")
+        World::build_in(scene, Vec3::ZERO).expect("a world")
     }
 
     fn lights_of(scene: &Scene, selection: LightSelection) -> LightList {

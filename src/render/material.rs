@@ -10,10 +10,12 @@ use super::texture::lookup;
 use crate::geometry::Hit;
 use crate::scene::{Material, Scene};
 
-/// The scattering of `hit`'s material at `hit`.
+/// The scattering of `hit`'s material at `hit`, a hit of a world whose
+/// frame has its origin at the scene point `frame`: textures are looked up
+/// at the hit's scene point, so they do not move with the frame.
 #[inline]
-pub fn bsdf(scene: &Scene, hit: &Hit) -> Bsdf {
-    let albedo = |id| lookup(scene, id, hit.uv, hit.point);
+pub fn bsdf(scene: &Scene, hit: &Hit, frame: Vec3) -> Bsdf {
+    let albedo = |id| lookup(scene, id, hit.uv, hit.point + frame);
     let (normal, geo_normal) = (hit.normal, hit.geo_normal);
     match *scene.material(hit.material) {
         Material::Lambertian { albedo: tex } => Bsdf::Lambertian {

@@ -26,9 +26,9 @@ pub struct PixelEstimate {
 }
 
 /// The ray of sample 0 of pixel `(x, y)` (row 0 at the top), as the film
-/// traced it.
-pub fn first_ray(scene: &Scene, options: &RenderOptions, x: u32, y: u32) -> Ray {
-    let camera = CameraRays::new(&scene.camera, options.width, options.height);
+/// traced it, in the frame whose origin is the scene point `frame`.
+pub fn first_ray(scene: &Scene, options: &RenderOptions, x: u32, y: u32, frame: Vec3) -> Ray {
+    let camera = CameraRays::new(&scene.camera, options.width, options.height, frame);
     let mut sampler = Sampler::for_sample(
         options.sampler,
         options.seed,
@@ -50,7 +50,7 @@ pub fn estimate(
     y: u32,
     samples: u32,
 ) -> PixelEstimate {
-    let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    let camera = CameraRays::new(&scene.camera, options.width, options.height, world.origin());
     let lights = LightList::for_render(
         scene,
         world,

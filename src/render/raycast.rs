@@ -66,7 +66,7 @@ fn trace(world: &World, mut rays: impl Iterator<Item = Ray>) -> RayRate {
 /// Traces `options.spp` camera rays per pixel of the full frame (jittered
 /// as in a render), nearest hit only.
 pub fn camera_rays(scene: &Scene, world: &World, options: &RenderOptions) -> RayRate {
-    let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    let camera = CameraRays::new(&scene.camera, options.width, options.height, world.origin());
     let (w, spp) = (options.width, options.spp);
     let samples = u64::from(w) * u64::from(options.height) * u64::from(spp);
     trace(

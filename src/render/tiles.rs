@@ -122,7 +122,7 @@ pub fn render_film(
     let first = options.first_sample().unwrap_or(0);
     let start = Instant::now();
     let tiles = tiles_of(region);
-    let camera = CameraRays::new(&scene.camera, options.width, options.height);
+    let camera = CameraRays::new(&scene.camera, options.width, options.height, world.origin());
     let lights = LightList::for_render(
         scene,
         world,
