@@ -231,6 +231,26 @@ fn a_glass_ball_of_radius_1e_minus_3_at_1e3_matches_the_same_ball_at_the_origin(
     ball_matches_at_origin(Frame::Camera, "1e3", "1e-3");
 }
 
+/// A long lens far away: the camera's frame is as good as scene coordinates
+/// for the ball it frames. At distance D from the camera a point is placed to
+/// about 6e-8·D; here D is 1e4 radii, so 0.06 % of the radius.
+#[test]
+fn a_glass_ball_seen_through_a_long_lens_from_1e4_radii_renders_as_in_scene_coordinates() {
+    let d: f32 = 1e4;
+    // The field of view that frames the ball as 45° does from 4 radii.
+    let fov = 2.0 * (4.0 * (22.5f32).to_radians().tan() / d).atan().to_degrees();
+    let (d, fov) = (d.to_string(), fov.to_string());
+    let defines = [("d", d.as_str()), ("fov", fov.as_str())];
+    let scene = blocks("far_ball.rt", &defines, Frame::Scene, true, REFERENCE_SEED);
+    assert!(brightness(&scene) > 0.05, "the ball scene is not black");
+    let camera = blocks("far_ball.rt", &defines, Frame::Camera, true, SEED);
+    assert_agree(
+        "glass ball through a long lens, camera frame vs scene",
+        &camera,
+        &scene,
+    );
+}
+
 /// In scene coordinates, at x = 1e3 the f32 grid is 6.1e-5, 6% of this
 /// ball's radius: hit points and their offsets (about three grid steps)
 /// move its refraction measurably: max |z| 9.0, mean z² 6.2 in session 11.
