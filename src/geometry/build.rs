@@ -21,7 +21,7 @@ use glam::{Affine3A, Mat4, Vec3};
 use super::bake::{flatten, primitive, Baked};
 use super::emitter::{is_light, Emitters, LightId, Placed, Source};
 use super::group::Group;
-use super::instance::{is_bounded, Instance, Placement, StaticTransform};
+use super::instance::{is_bounded, Instance, Placement};
 use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
@@ -530,17 +530,16 @@ impl Builder<'_> {
         if m == Mat4::IDENTITY {
             return Ok(inner);
         }
-        let composed = match &inner.placement {
-            Placement::Identity => m,
-            Placement::Static(s) => m * Mat4::from(s.to_parent),
-            Placement::Moving(_) => {
+        let composed = match inner.placement.matrix() {
+            Some(own) => m * own,
+            None => {
                 let geometry = self.unplaced(inner);
-                let s = StaticTransform::new(m).ok_or(BuildError::SingularMatrix(m))?;
-                return Ok(Instance::new(geometry, Placement::Static(Box::new(s))));
+                let p = Placement::fixed(m).ok_or(BuildError::SingularMatrix(m))?;
+                return Ok(Instance::new(geometry, p));
             }
         };
-        let s = StaticTransform::new(composed).ok_or(BuildError::SingularMatrix(m))?;
-        Ok(Instance::new(inner.geometry, Placement::Static(Box::new(s))).with_lights(inner.lights))
+        let p = Placement::fixed(composed).ok_or(BuildError::SingularMatrix(m))?;
+        Ok(Instance::new(inner.geometry, p).with_lights(inner.lights))
     }
 
     /// Geometry whose own space is `inner`'s parent space.
@@ -600,6 +599,9 @@ fn moved_mesh(mut data: MeshData, shift: Vec3) -> MeshData {
 }
 
 /// `motion` followed by the fixed move `shift` (itself when there is none).
+/// A step of its own costs next_week's moving ball no instructions that
+/// cachegrind counts; adding the move to the programs of a last translation
+/// cost it 0.8 % more (the programs' stack machine runs two more ops).
 fn moved_motion(motion: &Motion, shift: Vec3) -> Motion {
     let mut motion = motion.clone();
     if shift != Vec3::ZERO {
@@ -895,6 +897,15 @@ mod tests {
                 child: Box::new(ball(24.0, grey)),
             },
             Node::Instance(proto),
+            Node::Motion {
+                motion: Motion {
+                    steps: vec![MotionStep::Rotate {
+                        axis: Vec3::Y,
+                        degrees: Program::time(),
+                    }],
+                },
+                child: Box::new(ball(36.0, grey)),
+            },
             Node::Medium {
                 boundary: Box::new(ball(30.0, grey)),
                 density: 0.5,
@@ -909,7 +920,7 @@ mod tests {
                 material: grey,
             },
         ];
-        let mut rays: Vec<Ray> = (0..12)
+        let mut rays: Vec<Ray> = (0..13)
             .map(|i| Ray::new(Vec3::new(3.0 * i as f32, 50.0, 0.1), Vec3::NEG_Y, 0.2))
             .collect();
         rays.extend([-9.0, -19.0].map(|y| Ray::new(Vec3::new(-50.0, y, 0.1), Vec3::X, 0.0)));
