@@ -193,6 +193,16 @@ fn routes_and_host_check() {
     }
 }
 
+/// The picked point lies on the ball of radius 0.5 at (0, 0.5, 0), on its
+/// side towards the camera: the point is in scene coordinates.
+fn assert_on_ball(pick: &Value) {
+    let p: Vec<f64> = (0..3)
+        .map(|c| pick["point"][c].as_f64().expect("a point"))
+        .collect();
+    let r = (p[0] * p[0] + (p[1] - 0.5).powi(2) + p[2] * p[2]).sqrt();
+    assert!((r - 0.5).abs() < 1e-3 && p[2] > 0.4, "point {p:?}");
+}
+
 #[test]
 fn image_pick_controls_and_edits() {
     let dir = scratch::folder("preview-edits");
@@ -236,6 +246,7 @@ fn image_pick_controls_and_edits() {
     assert!((t - (25.25f64.sqrt() - 0.5)).abs() < 0.05, "distance {t}");
     let normal_z = pick["normal"][2].as_f64().expect("a normal");
     assert!(normal_z > 0.9, "the normal faces the camera: {pick}");
+    assert_on_ball(&pick);
     assert_eq!(pick["samples"], 64);
     // The estimate is the film's pixel exactly, with a standard error.
     let scene = rtlang::lang::load_scene(&dir.join("scene.rt"), &[])
@@ -293,6 +304,12 @@ fn image_pick_controls_and_edits() {
         s["job"].as_u64() > Some(job) && finished(s)
     });
     assert_eq!(session.builds(), builds, "a camera edit rebuilt the world");
+    // The kept world stays in the old camera's frame; picks are made in it
+    // and reported in scene coordinates, from the new camera.
+    let pick: Value = serde_json::from_slice(&get(addr, "/pick?x=80&y=60").body).expect("JSON");
+    let t = pick["distance"].as_f64().expect("a distance");
+    assert!((t - (25.49f64.sqrt() - 0.5)).abs() < 0.05, "distance {t}");
+    assert_on_ball(&pick);
     // Recolouring the ball changes the picture.
     let blue = SCENE.replace("rgb(0.8, 0.1, 0.1)", "rgb(0.1, 0.1, 0.8)");
     let job = status(addr)["job"].as_u64();
