@@ -328,19 +328,10 @@ impl Builder<'_> {
     ) -> Result<(), BuildError> {
         let moving = at.shift != Vec3::ZERO;
         match node {
-            // A move keeps a bounded shape a shape of this space's set; an
-            // analytic surface of revolution gets an instance for it.
-            Node::Shape { shape, .. }
-                if moving
-                    && (primitive(shape).is_some()
-                        || matches!(
-                            shape,
-                            Shape::Revolution {
-                                mode: RevolutionMode::Analytic { .. },
-                                ..
-                            }
-                        )) =>
-            {
+            // Other shapes are placed by the move: a bounded shape stays a
+            // shape of this space's set, an analytic surface of revolution
+            // gets an instance for it.
+            Node::Shape { shape, .. } if moving && !moves_itself(shape) => {
                 self.placed_by(at.moved(), node, at, prims, items)?
             }
             Node::Shape { shape, material } => self.shape(shape, *material, at, prims, items)?,
@@ -588,6 +579,19 @@ impl Builder<'_> {
         };
         Ok(inst.clone().with_lights(base))
     }
+}
+
+/// Whether [`Builder::shape`] builds `shape` moved by itself: a plane moves
+/// its point, a tessellated surface of revolution its vertices.
+fn moves_itself(shape: &Shape) -> bool {
+    matches!(
+        shape,
+        Shape::Plane { .. }
+            | Shape::Revolution {
+                mode: RevolutionMode::Mesh { .. },
+                ..
+            }
+    )
 }
 
 /// `data` with every vertex moved by `shift`.
