@@ -55,6 +55,12 @@ fn every_scale_renders_the_same_image() {
 /// from three radii away: every bounce off a convex ball leaves it, so the
 /// pixel is exactly 0.5 whatever the sample.
 fn grey_ball_centre(radius: f32) -> [f32; 3] {
+    let camera = glam::Vec3::new(0.0, 0.0, -3.0 * radius);
+    grey_ball_centre_at(glam::Vec3::ZERO, radius, camera)
+}
+
+/// The same with the ball at `center` and the camera at `from`.
+fn grey_ball_centre_at(center: glam::Vec3, radius: f32, from: glam::Vec3) -> [f32; 3] {
     use rtlang::scene::settings::Background;
     use rtlang::scene::texture::Texture;
     use rtlang::scene::{Material, Node, Scene, Shape};
@@ -63,15 +69,12 @@ fn grey_ball_centre(radius: f32) -> [f32; 3] {
     scene.settings.height = 9;
     scene.settings.spp = 4;
     scene.settings.background = Background::Solid(glam::Vec3::ONE);
-    scene.camera.from = glam::Vec3::new(0.0, 0.0, -3.0 * radius);
-    scene.camera.at = glam::Vec3::ZERO;
+    scene.camera.from = from;
+    scene.camera.at = center;
     let grey = scene.add_texture(Texture::Solid(glam::Vec3::splat(0.5)));
     let material = scene.add_material(Material::Lambertian { albedo: grey });
     scene.objects.push(Node::Shape {
-        shape: Shape::Sphere {
-            center: glam::Vec3::ZERO,
-            radius,
-        },
+        shape: Shape::Sphere { center, radius },
         material,
     });
     let world = World::build(&scene).expect("builds");
@@ -94,4 +97,14 @@ fn a_ball_at_either_size_limit_renders_exactly() {
             "radius {radius}: {c:?}"
         );
     }
+}
+
+#[test]
+fn a_ball_and_a_camera_at_opposite_coordinate_limits_render_exactly() {
+    // The world is built in the camera's frame, so a camera at +1e18 moves a
+    // ball reaching to -9.9e17 out to -2e18: still within what f32 rays
+    // hold, and the ball renders the exact furnace value.
+    let from = glam::Vec3::new(1e18, 0.0, 0.0);
+    let c = grey_ball_centre_at(glam::Vec3::new(-5e17, 0.0, 0.0), 4.9e17, from);
+    assert!(c.iter().all(|v| (v - 0.5).abs() < 1e-6), "{c:?}");
 }
