@@ -48,6 +48,8 @@ enum Frame {
     Scene,
 }
 
+const BOTH_FRAMES: [Frame; 2] = [Frame::Camera, Frame::Scene];
+
 fn render_seed(
     file: &str,
     defines: &[(&str, &str)],
@@ -148,6 +150,13 @@ fn brightness(b: &Blocks) -> f32 {
     b.mean.iter().map(|m| m.element_sum()).sum::<f32>() / (3 * b.mean.len()) as f32
 }
 
+#[test]
+fn a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height_with_both_integrators() {
+    for frame in BOTH_FRAMES {
+        floor_matches_at_every_height(frame);
+    }
+}
+
 /// A floor lit by a small one-sided lamp at heights up to 1e6.
 fn floor_matches_at_every_height(frame: Frame) {
     let reference = blocks("far_floor.rt", &[("h", "0")], frame, true, REFERENCE_SEED);
@@ -171,36 +180,16 @@ fn floor_matches_at_every_height(frame: Frame) {
 }
 
 #[test]
-fn a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height_with_both_integrators() {
-    floor_matches_at_every_height(Frame::Camera);
-}
-
-#[test]
-fn in_scene_coordinates_a_floor_lit_by_a_small_lamp_looks_the_same_at_every_height() {
-    floor_matches_at_every_height(Frame::Scene);
-}
-
-fn cornell_matches_far_away(frame: Frame) {
-    let reference = blocks("far_cornell.rt", &[("d", "0")], frame, true, REFERENCE_SEED);
-    assert!(brightness(&reference) > 0.05, "the box is not black");
-    for d in ["1e3", "1e4", "1e5"] {
-        let far = blocks("far_cornell.rt", &[("d", d)], frame, true, SEED);
-        assert_agree(
-            &format!("{frame:?} frame, Cornell box moved by {d}"),
-            &far,
-            &reference,
-        );
-    }
-}
-
-#[test]
 fn the_cornell_box_far_from_the_origin_matches_it_at_the_origin() {
-    cornell_matches_far_away(Frame::Camera);
-}
-
-#[test]
-fn in_scene_coordinates_the_cornell_box_far_from_the_origin_matches_it_at_the_origin() {
-    cornell_matches_far_away(Frame::Scene);
+    for frame in BOTH_FRAMES {
+        let reference = blocks("far_cornell.rt", &[("d", "0")], frame, true, REFERENCE_SEED);
+        assert!(brightness(&reference) > 0.05, "the box is not black");
+        for d in ["1e3", "1e4", "1e5"] {
+            let far = blocks("far_cornell.rt", &[("d", d)], frame, true, SEED);
+            let what = format!("{frame:?} frame, Cornell box moved by {d}");
+            assert_agree(&what, &far, &reference);
+        }
+    }
 }
 
 /// A glass ball and its scene, sized by `r`, at `x` against the same at 0.
@@ -218,12 +207,9 @@ fn ball_matches_at_origin(frame: Frame, x: &str, r: &str) {
 
 #[test]
 fn a_glass_ball_of_radius_one_at_1e5_matches_the_same_ball_at_the_origin() {
-    ball_matches_at_origin(Frame::Camera, "1e5", "1");
-}
-
-#[test]
-fn in_scene_coordinates_a_glass_ball_of_radius_one_at_1e5_matches_the_same_ball_at_the_origin() {
-    ball_matches_at_origin(Frame::Scene, "1e5", "1");
+    for frame in BOTH_FRAMES {
+        ball_matches_at_origin(frame, "1e5", "1");
+    }
 }
 
 #[test]
