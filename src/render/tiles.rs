@@ -1,16 +1,16 @@
 //! Rendering an image: samples are added to a [`Film`] in rounds (1, 2, 4, …
-//! samples per pixel, at most 16), each round cut into tiles rendered in
-//! parallel by rayon. Each pixel's samples are traced in index order from
+//! samples per pixel, at most 16), each round cut into tiles that the
+//! threads of a rayon pool take one at a time, the tiles that cost most in
+//! the last round first. Each pixel's samples are traced in index order from
 //! streams that depend only on (seed, pixel, sample), so the result is
 //! bit-identical for any thread count, any crop, any number of rounds and
 //! any interruption resumed from a checkpoint. Counters are per tile, merged
 //! at the end of each round.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 use super::adaptive::{is_round_end, PixelEstimate};
 use super::camera::CameraRays;
@@ -147,6 +147,9 @@ pub fn render_film(
         ..RenderStats::default()
     };
     let mut reached = film.spp_reached();
+    // Rays each tile traced in the last round: the next round starts the
+    // costliest tiles first.
+    let mut cost = vec![0u64; tiles.len()];
     while reached < options.spp && !hooks.stop.load(Ordering::Relaxed) {
         // Adaptive sampling decides per pixel, inside one round to the cap.
         let target = if options.noise.is_some() {
@@ -164,23 +167,32 @@ pub fn render_film(
             clamp: options.clamp,
             noise: options.noise,
         };
+        let order = costliest_first(&cost);
+        let next = AtomicUsize::new(0);
         let shared: &Film = film;
-        let work = || -> Vec<TileResult> {
-            tiles
-                .par_iter()
-                .filter(|_| !hooks.stop.load(Ordering::Relaxed))
-                .map(|tile| {
-                    let r = job.tile(shared, *tile);
+        let work = || -> Vec<(usize, TileResult)> {
+            rayon::broadcast(|_| {
+                let mut done = Vec::new();
+                while !hooks.stop.load(Ordering::Relaxed) {
+                    let Some(&t) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                        break;
+                    };
+                    let r = job.tile(shared, tiles[t]);
                     (hooks.tile_done)(r.samples);
-                    r
-                })
-                .collect()
+                    done.push((t, r));
+                }
+                done
+            })
+            .into_iter()
+            .flatten()
+            .collect()
         };
         let results = match &pool {
             None => work(),
             Some(p) => p.install(work),
         };
-        for r in results {
+        for (t, r) in results {
+            cost[t] = r.rays;
             stats.samples += r.samples;
             stats.rays += r.rays;
             stats.dropped += r.dropped;
@@ -221,6 +233,16 @@ fn clamp_radiance(l: Vec3, max: f32) -> Vec3 {
     } else {
         l
     }
+}
+
+/// The order in which a round's threads take the tiles: the most rays
+/// traced in the last round first (ties, and the first round, in grid
+/// order), so that the round does not end waiting on an expensive tile
+/// started last. Each tile's pixels come out the same in any order.
+fn costliest_first(cost: &[u64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..cost.len()).collect();
+    order.sort_by_key(|&t| std::cmp::Reverse(cost[t]));
+    order
 }
 
 /// Tiles on a grid anchored at the image origin, clipped to `region`.
@@ -329,5 +351,17 @@ impl Job<'_> {
             }
         }
         r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::costliest_first;
+
+    #[test]
+    fn tiles_are_taken_costliest_first_and_ties_in_grid_order() {
+        assert_eq!(costliest_first(&[3, 9, 0, 9, 5]), vec![1, 3, 4, 0, 2]);
+        // The first round knows no costs: grid order.
+        assert_eq!(costliest_first(&[0; 4]), vec![0, 1, 2, 3]);
     }
 }
