@@ -1,8 +1,10 @@
 //! The binary tree the BVH starts from: binned surface-area-heuristic
 //! splits over the primitives' boxes, with the leaf cost set by how leaves
-//! are tested ([`Leaves`]). The wide tree is collapsed from it.
+//! are tested ([`Leaves`]). The wide tree is collapsed from it. Large
+//! trees are built on all threads, into the same tree as on one.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::super::Aabb;
 use super::Leaves;
@@ -18,7 +20,7 @@ const TRAVERSAL_COST: f32 = 0.5;
 /// One node of the binary tree the builder makes: its box, and either two
 /// children (`count == 0`: the left child follows this node, the right one
 /// is at `offset`) or a leaf of `count` primitives starting at `offset`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct BinaryNode {
     pub(super) bounds: Aabb,
     pub(super) offset: u32,
@@ -52,10 +54,17 @@ pub(super) fn binary_tree(bounds: &[Aabb], leaves: Leaves) -> (Vec<BinaryNode>, 
     (binary, items.iter().map(|it| it.index).collect())
 }
 
+/// Item counts from which the two halves of a split are built on two
+/// threads: below it, a subtree costs less than handing it to another.
+const PARALLEL_ITEMS: usize = 4096;
+
 /// Appends the binary subtree over `items` (whose first primitive slot is
 /// `first`) to `nodes`, depth first, left child right after its parent.
+/// Large subtrees build their two halves in parallel (rayon) into nodes of
+/// their own, joined in the same order, so the tree is the same on any
+/// number of threads.
 fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize, leaves: Leaves) {
-    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(&it.bounds));
+    let (bounds, centroids) = extents(items);
     let leaf = |nodes: &mut Vec<BinaryNode>| {
         nodes.push(BinaryNode {
             bounds,
@@ -67,8 +76,7 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
         leaf(nodes);
         return;
     }
-    let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
-    let split = best_split(items, &centroids);
+    let split = best_split(items, &centroids, bounds.area());
     let leaf_cost = match leaves {
         Leaves::Scalar => items.len() as f32,
         Leaves::Packed => 1.0,
@@ -95,10 +103,32 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
         offset: 0,
         count: 0,
     });
+    let parallel = items.len() >= PARALLEL_ITEMS;
     let (left, right) = items.split_at_mut(mid);
-    build_node(nodes, left, first, leaves);
-    nodes[me].offset = nodes.len() as u32;
-    build_node(nodes, right, first + mid, leaves);
+    if parallel {
+        let (mut right_nodes, ()) = rayon::join(
+            || {
+                let mut own = Vec::with_capacity(2 * right.len());
+                build_node(&mut own, right, first + mid, leaves);
+                own
+            },
+            || build_node(nodes, left, first, leaves),
+        );
+        let base = nodes.len() as u32;
+        nodes[me].offset = base;
+        // Inner nodes point at their right child by index; leaves at
+        // primitive slots, which do not move.
+        for n in &mut right_nodes {
+            if n.count == 0 {
+                n.offset += base;
+            }
+        }
+        nodes.append(&mut right_nodes);
+    } else {
+        build_node(nodes, left, first, leaves);
+        nodes[me].offset = nodes.len() as u32;
+        build_node(nodes, right, first + mid, leaves);
+    }
 }
 
 fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {
@@ -110,25 +140,81 @@ fn bin_of(c: Vec3, centroids: &Aabb, axis: usize) -> usize {
     (((c[axis] - lo) / ext * BINS as f32) as usize).min(BINS - 1)
 }
 
+/// Item counts from which a node's scans over its items run on all
+/// threads, in chunks of [`SCAN_CHUNK`]: boxes merge exactly (minima and
+/// maxima) and counts add, so the result is the sequential scan's.
+const PARALLEL_SCAN: usize = 1 << 16;
+const SCAN_CHUNK: usize = 1 << 14;
+
+/// A scan over `items` that folds chunks with `scan` and merges their
+/// results with `merge`: on all threads when there are many items.
+fn scan<T: Send>(
+    items: &[BuildItem],
+    scan: impl Fn(&[BuildItem]) -> T + Sync,
+    merge: impl Fn(T, T) -> T + Sync,
+) -> T {
+    if items.len() < PARALLEL_SCAN {
+        return scan(items);
+    }
+    items
+        .par_chunks(SCAN_CHUNK)
+        .map(&scan)
+        .reduce_with(&merge)
+        .expect("a large scan has chunks")
+}
+
+/// The box around the items and the box around their centroids.
+fn extents(items: &[BuildItem]) -> (Aabb, Aabb) {
+    scan(
+        items,
+        |chunk| {
+            chunk.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), it| {
+                (b.union(&it.bounds), c.grow(it.centroid))
+            })
+        },
+        |(a, b), (c, d)| (a.union(&c), b.union(&d)),
+    )
+}
+
+/// The box and the count of the items in each centroid bin along one axis.
+type Bins = ([Aabb; BINS], [usize; BINS]);
+
+/// The items' bins along `axis`, on all threads when there are many.
+fn binned(items: &[BuildItem], centroids: &Aabb, axis: usize) -> Bins {
+    scan(
+        items,
+        |chunk| {
+            let (mut boxes, mut counts) = ([Aabb::EMPTY; BINS], [0usize; BINS]);
+            for it in chunk {
+                let b = bin_of(it.centroid, centroids, axis);
+                boxes[b] = boxes[b].union(&it.bounds);
+                counts[b] += 1;
+            }
+            (boxes, counts)
+        },
+        |(mut boxes, mut counts), (other_boxes, other_counts)| {
+            for k in 0..BINS {
+                boxes[k] = boxes[k].union(&other_boxes[k]);
+                counts[k] += other_counts[k];
+            }
+            (boxes, counts)
+        },
+    )
+}
+
 /// The best (axis, first bin of the right side, SAH cost in units of one
 /// primitive test) over all binned splits, if any splits the items.
-fn best_split(items: &[BuildItem], centroids: &Aabb) -> Option<(usize, usize, f32)> {
-    let parent_area = items
-        .iter()
-        .fold(Aabb::EMPTY, |b, it| b.union(&it.bounds))
-        .area();
+fn best_split(
+    items: &[BuildItem],
+    centroids: &Aabb,
+    parent_area: f32,
+) -> Option<(usize, usize, f32)> {
     let mut best: Option<(usize, usize, f32)> = None;
     for axis in 0..3 {
         if centroids.extent()[axis] <= 0.0 {
             continue;
         }
-        let mut boxes = [Aabb::EMPTY; BINS];
-        let mut counts = [0usize; BINS];
-        for it in items {
-            let b = bin_of(it.centroid, centroids, axis);
-            boxes[b] = boxes[b].union(&it.bounds);
-            counts[b] += 1;
-        }
+        let (boxes, counts) = binned(items, centroids, axis);
         let mut right_area = [0.0f32; BINS];
         let mut right_count = [0usize; BINS];
         let (mut acc, mut n) = (Aabb::EMPTY, 0);
@@ -166,4 +252,69 @@ fn partition(items: &mut [BuildItem], left: impl Fn(&BuildItem) -> bool) -> usiz
         }
     }
     mid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::rng::numbers;
+
+    /// Checks the subtree at `i` against the items' boxes: every child's
+    /// box inside its parent's, the left child right after its parent, and
+    /// each leaf's slots marked in `seen`; returns the index past it.
+    fn check(
+        nodes: &[BinaryNode],
+        i: usize,
+        boxes: &[Aabb],
+        order: &[u32],
+        seen: &mut [bool],
+    ) -> usize {
+        let n = nodes[i];
+        let inside = |b: &Aabb| n.bounds.union(b) == n.bounds;
+        if n.count > 0 {
+            for slot in n.offset..n.offset + n.count {
+                assert!(!seen[slot as usize], "slot {slot} in two leaves");
+                seen[slot as usize] = true;
+                assert!(inside(&boxes[order[slot as usize] as usize]));
+            }
+            return i + 1;
+        }
+        assert!(inside(&nodes[i + 1].bounds) && inside(&nodes[n.offset as usize].bounds));
+        let end = check(nodes, i + 1, boxes, order, seen);
+        assert_eq!(
+            end, n.offset as usize,
+            "the right child follows the left subtree"
+        );
+        check(nodes, end, boxes, order, seen)
+    }
+
+    #[test]
+    fn a_large_tree_built_on_several_threads_is_the_one_thread_tree_and_sound() {
+        // Enough boxes that the root's scans run in chunks on all threads
+        // and subtrees are built in parallel, a third of them at one point
+        // (whose split falls back to halving by order).
+        let mut u = numbers(7);
+        let boxes: Vec<Aabb> = (0..200_000)
+            .map(|i| {
+                let c = if i % 3 == 0 {
+                    Vec3::splat(0.5)
+                } else {
+                    Vec3::new(u(), u(), u())
+                };
+                Aabb::new(c - Vec3::splat(1e-3 * u()), c + Vec3::splat(1e-3))
+            })
+            .collect();
+        let build = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a pool")
+                .install(|| binary_tree(&boxes, Leaves::Scalar))
+        };
+        let (nodes, order) = build(1);
+        assert_eq!(build(4), (nodes.clone(), order.clone()));
+        let mut seen = vec![false; boxes.len()];
+        assert_eq!(check(&nodes, 0, &boxes, &order, &mut seen), nodes.len());
+        assert!(seen.iter().all(|&s| s), "every slot in a leaf");
+    }
 }
