@@ -301,6 +301,15 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
     let scene = loaded.scene;
     let options = options_for(args, &scene.settings)?;
     let region = options.region().map_err(fail)?;
+    // The BVH build runs on rayon's global pool: `--threads` bounds it too.
+    // (Building the global pool fails only if it already exists, and then
+    // it is the same size, set here for an earlier frame.)
+    if let Some(n) = options.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .ok();
+    }
     let world = World::build(&scene).map_err(fail)?;
     let header = Header {
         piece: PieceInfo::new(&scene, &options, region, frame as f64, 0),
