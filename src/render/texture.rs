@@ -11,8 +11,20 @@ use crate::scene::{ImageData, Scene, Texture};
 const MAX_NESTING: u32 = 16;
 
 /// The colour of texture `id` of `scene` at surface point `p` with `uv`.
-/// `uv` is computed only if a texture on the way reads it.
+/// `uv` is computed only if a texture on the way reads it. A solid colour
+/// (most materials) is read where the material is built; patterns go
+/// through [`pattern`].
+#[inline]
 pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -> Vec3 {
+    match scene.texture(id) {
+        Texture::Solid(c) => *c,
+        _ => pattern(scene, id, uv, p),
+    }
+}
+
+/// [`lookup`] of a texture that is not a solid colour: checkers (nested up
+/// to [`MAX_NESTING`] deep), images and noise.
+fn pattern(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -> Vec3 {
     let mut id = id;
     for _ in 0..MAX_NESTING {
         match scene.texture(id) {
