@@ -6,6 +6,7 @@ pub mod bake;
 pub mod build;
 pub mod bvh;
 pub mod emitter;
+pub mod flat;
 pub mod group;
 pub mod hit;
 pub mod instance;

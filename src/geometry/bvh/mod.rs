@@ -22,7 +22,7 @@ use arrayvec::ArrayVec;
 
 use super::{Aabb, Ray};
 #[cfg(target_arch = "x86_64")]
-use node::avx;
+pub(crate) use node::avx;
 use node::{node_hit, BoxRay, BvhNode, WIDTH};
 use sah::BinaryNode;
 

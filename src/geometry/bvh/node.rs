@@ -142,7 +142,7 @@ impl BvhNode {
 /// standard library caches the answer).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub(super) fn avx() -> bool {
+pub(crate) fn avx() -> bool {
     std::arch::is_x86_feature_detected!("avx")
 }
 

@@ -79,6 +79,11 @@ impl Quad {
         Some(self.surface(&c))
     }
 
+    /// `1 / ((edge_u × edge_v) · normal)`.
+    pub fn inv_area(&self) -> f32 {
+        self.inv_area
+    }
+
     /// The crossing with `t` in `(t_min, t_max)`; its data holds `(u, v)`.
     #[inline]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {

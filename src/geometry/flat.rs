@@ -1,0 +1,601 @@
+//! A small set of flat faces (axis-aligned rects and parallelograms, as
+//! the Cornell box's walls and turned boxes) tested eight at a time, every
+//! face against each ray, with no hierarchy. Each lane repeats the face's
+//! own `crossing` operation for operation, in the same order, so a ray's
+//! crossings are the ones each face gives it alone, bit for bit; only a tie
+//! (two faces crossed at exactly the same distance, as on a shared edge)
+//! may go to another face than a walk of the set's BVH picks.
+//!
+//! For so few faces one AVX pass per eight faces costs less than a walk,
+//! whose node visits and branches follow each ray (docs/performance.md,
+//! session 14). The lanes are plain arrays with branch-free operations that
+//! the compiler turns into vector instructions; the tests are compiled
+//! twice and the AVX copy is picked at run time, with the same IEEE
+//! operations in both.
+
+use std::array::from_fn;
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
+
+use super::primitives::Primitive;
+use super::shapes::{Crossing, Quad, Rect};
+use super::Ray;
+use glam::Vec3;
+
+/// Faces per pass.
+const LANES: usize = 8;
+
+/// Most faces a set may hold to be tested in passes rather than walked.
+pub const MAX_FACES: usize = 32;
+
+/// Eight floats. Each operation is a loop over the lanes with no branch.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+struct Lanes([f32; LANES]);
+
+/// A lane mask: all bits set where true.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+struct Mask([i32; LANES]);
+
+/// A lane-by-lane operator of one of the two lane types.
+macro_rules! lane_op {
+    ($ty:ident, $trait:ident, $f:ident, $op:tt) => {
+        impl $trait for $ty {
+            type Output = $ty;
+            #[inline(always)]
+            fn $f(self, o: $ty) -> $ty {
+                $ty(from_fn(|l| self.0[l] $op o.0[l]))
+            }
+        }
+    };
+}
+lane_op!(Lanes, Add, add, +);
+lane_op!(Lanes, Sub, sub, -);
+lane_op!(Lanes, Mul, mul, *);
+lane_op!(Lanes, Div, div, /);
+lane_op!(Mask, BitAnd, bitand, &);
+lane_op!(Mask, BitOr, bitor, |);
+
+impl Not for Mask {
+    type Output = Mask;
+    #[inline(always)]
+    fn not(self) -> Mask {
+        Mask(self.0.map(|m| !m))
+    }
+}
+
+impl Lanes {
+    #[inline(always)]
+    fn splat(x: f32) -> Lanes {
+        Lanes([x; LANES])
+    }
+
+    /// The smallest lane (no lane is NaN), halving the lanes three times.
+    #[inline(always)]
+    fn least(self) -> f32 {
+        let min = |a: f32, b: f32| if b < a { b } else { a };
+        let x = self.0;
+        let four: [f32; 4] = from_fn(|l| min(x[l], x[l + 4]));
+        let two: [f32; 2] = from_fn(|l| min(four[l], four[l + 2]));
+        min(two[0], two[1])
+    }
+
+    /// Ordered comparisons: false where either side is NaN.
+    #[inline(always)]
+    fn lt(self, o: Lanes) -> Mask {
+        Mask(from_fn(|l| -i32::from(self.0[l] < o.0[l])))
+    }
+
+    #[inline(always)]
+    fn eq(self, o: Lanes) -> Mask {
+        Mask(from_fn(|l| -i32::from(self.0[l] == o.0[l])))
+    }
+
+    /// Lanes whose bits are equal (for slots stored as float bits).
+    #[inline(always)]
+    fn eq_bits(self, o: Lanes) -> Mask {
+        Mask(from_fn(|l| {
+            -i32::from(self.0[l].to_bits() == o.0[l].to_bits())
+        }))
+    }
+
+    #[inline(always)]
+    fn le(self, o: Lanes) -> Mask {
+        Mask(from_fn(|l| -i32::from(self.0[l] <= o.0[l])))
+    }
+}
+
+impl Mask {
+    const NONE: Mask = Mask([0; LANES]);
+
+    /// A mask from one flag per lane.
+    fn of(flags: [bool; LANES]) -> Mask {
+        Mask(flags.map(|f| -i32::from(f)))
+    }
+
+    /// `a` where set, else `b`.
+    #[inline(always)]
+    fn select(self, a: Lanes, b: Lanes) -> Lanes {
+        Lanes(from_fn(|l| if self.0[l] < 0 { a.0[l] } else { b.0[l] }))
+    }
+
+    /// Bit `lane` set where the lane is.
+    #[inline(always)]
+    fn bits(self) -> u32 {
+        (0..LANES).fold(0, |b, l| b | (self.0[l] as u32 & 1) << l)
+    }
+
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().fold(0, |a, &m| a | m) != 0
+    }
+}
+
+/// Eight axis-aligned rects as [`Rect::crossing`] reads them,
+/// each lane's axes picked by masks. An unused lane has a NaN plane, which
+/// no ray crosses.
+#[derive(Clone, Copy, Debug)]
+struct RectPack {
+    k: Lanes,
+    a: (Lanes, Lanes),
+    b: (Lanes, Lanes),
+    /// Normal axis x, else y, else z.
+    normal_x: Mask,
+    normal_y: Mask,
+    /// First span axis x, else y; second span axis y, else z.
+    first_x: Mask,
+    second_y: Mask,
+    slot: Lanes,
+}
+
+/// Eight parallelograms as [`Quad::crossing`] reads them. An
+/// unused lane has a zero normal, which gives a NaN distance.
+#[derive(Clone, Copy, Debug)]
+struct QuadPack {
+    corner: [Lanes; 3],
+    edge_u: [Lanes; 3],
+    edge_v: [Lanes; 3],
+    normal: [Lanes; 3],
+    inv_area: Lanes,
+    slot: Lanes,
+}
+
+/// A ray's origin and direction, each coordinate in every lane.
+struct RayLanes {
+    o: [Lanes; 3],
+    d: [Lanes; 3],
+}
+
+impl RayLanes {
+    #[inline(always)]
+    fn new(ray: &Ray) -> RayLanes {
+        RayLanes {
+            o: ray.origin.to_array().map(Lanes::splat),
+            d: ray.dir.to_array().map(Lanes::splat),
+        }
+    }
+}
+
+/// The nearest crossing so far in each lane: distance, slot, and a
+/// parallelogram's `(u, v)`.
+struct Best {
+    t: Lanes,
+    /// Slots as the bits of floats, so that they blend like the rest.
+    slot: Lanes,
+    u: Lanes,
+    v: Lanes,
+}
+
+impl Best {
+    #[inline(always)]
+    fn keep(&mut self, take: Mask, t: Lanes, slot: Lanes, u: Lanes, v: Lanes) {
+        self.t = take.select(t, self.t);
+        self.u = take.select(u, self.u);
+        self.v = take.select(v, self.v);
+        self.slot = take.select(slot, self.slot);
+    }
+
+    /// The slot in `lane`, `u32::MAX` for none.
+    #[inline(always)]
+    fn slot(&self, lane: usize) -> u32 {
+        self.slot.0[lane].to_bits()
+    }
+}
+
+impl RectPack {
+    /// The distance to each plane and whether the point there lies in the
+    /// rect, as `Rect::crossing` computes them: `(k − o) / d` on the normal
+    /// axis (infinite or NaN where `d` is zero, which no range accepts, as
+    /// `Rect::crossing` rejects such rays), then `o + t·d` on the two span
+    /// axes (NaN passes, as there).
+    #[inline(always)]
+    fn crossings(&self, r: &RayLanes) -> (Lanes, Mask) {
+        let pick = |x: Mask, y: Mask, v: &[Lanes; 3]| x.select(v[0], y.select(v[1], v[2]));
+        let o = pick(self.normal_x, self.normal_y, &r.o);
+        let d = pick(self.normal_x, self.normal_y, &r.d);
+        let t = (self.k - o) / d;
+        let none = Mask::NONE;
+        let (oi, di) = (
+            self.first_x.select(r.o[0], r.o[1]),
+            self.first_x.select(r.d[0], r.d[1]),
+        );
+        let (oj, dj) = (
+            pick(none, self.second_y, &r.o),
+            pick(none, self.second_y, &r.d),
+        );
+        let x = oi + t * di;
+        let y = oj + t * dj;
+        let out = x.lt(self.a.0) | self.a.1.lt(x) | y.lt(self.b.0) | self.b.1.lt(y);
+        (t, !out)
+    }
+}
+
+impl QuadPack {
+    /// Each lane's `t`, `u` and `v` by `Quad::crossing`'s operations in
+    /// glam's order (dot products left to right, cross products component
+    /// by component).
+    #[inline(always)]
+    fn crossings(&self, r: &RayLanes) -> (Lanes, Lanes, Lanes) {
+        let [nx, ny, nz] = self.normal;
+        let [cx, cy, cz] = self.corner;
+        let [ux, uy, uz] = self.edge_u;
+        let [vx, vy, vz] = self.edge_v;
+        let ([ox, oy, oz], [dx, dy, dz]) = (r.o, r.d);
+        let denom = nx * dx + ny * dy + nz * dz;
+        let num = nx * (cx - ox) + ny * (cy - oy) + nz * (cz - oz);
+        let t = num / denom;
+        let rx = (ox + t * dx) - cx;
+        let ry = (oy + t * dy) - cy;
+        let rz = (oz + t * dz) - cz;
+        // rel × edge_v, then · normal
+        let (ax, ay, az) = (ry * vz - vy * rz, rz * vx - vz * rx, rx * vy - vx * ry);
+        // edge_u × rel, then · normal
+        let (bx, by, bz) = (uy * rz - ry * uz, uz * rx - rz * ux, ux * ry - rx * uy);
+        let u = (ax * nx + ay * ny + az * nz) * self.inv_area;
+        let v = (bx * nx + by * ny + bz * nz) * self.inv_area;
+        (t, u, v)
+    }
+}
+
+/// `u` and `v` both in [0, 1] (NaN fails, as in `Quad::crossing`).
+#[inline(always)]
+fn within_unit(u: Lanes, v: Lanes) -> Mask {
+    let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
+    zero.le(u) & u.le(one) & zero.le(v) & v.le(one)
+}
+
+/// The faces of a primitive set in packs of eight of one kind, in slot
+/// order.
+#[derive(Debug)]
+pub struct FlatFaces {
+    rects: Vec<RectPack>,
+    quads: Vec<QuadPack>,
+}
+
+impl FlatFaces {
+    /// The packs of primitives in slot order; `None` unless every one is a
+    /// rect or a parallelogram and there are at most [`MAX_FACES`].
+    pub fn new(prims: &[Primitive]) -> Option<FlatFaces> {
+        if prims.is_empty() || prims.len() > MAX_FACES {
+            return None;
+        }
+        let mut rects = Vec::new();
+        let mut quads = Vec::new();
+        for (slot, p) in (0u32..).zip(prims) {
+            match p {
+                Primitive::Rect(r) => rects.push((slot, *r)),
+                Primitive::Quad(q) => quads.push((slot, *q)),
+                _ => return None,
+            }
+        }
+        Some(FlatFaces {
+            rects: rects.chunks(LANES).map(rect_pack).collect(),
+            quads: quads.chunks(LANES).map(quad_pack).collect(),
+        })
+    }
+
+    /// The nearest crossing with `t` in `(t_min, t_max)` and its slot.
+    #[inline]
+    pub fn nearest(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+        #[cfg(target_arch = "x86_64")]
+        if super::bvh::avx() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.nearest_avx(ray, t_min, t_max) };
+        }
+        self.nearest_lanes(ray, t_min, t_max)
+    }
+
+    /// Whether some face is crossed with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if super::bvh::avx() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.occluded_avx(ray, t_min, t_max) };
+        }
+        self.occluded_lanes(ray, t_min, t_max)
+    }
+
+    /// [`FlatFaces::nearest_lanes`] compiled with AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn nearest_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+        self.nearest_lanes(ray, t_min, t_max)
+    }
+
+    /// [`FlatFaces::occluded_lanes`] compiled with AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn occluded_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.occluded_lanes(ray, t_min, t_max)
+    }
+
+    #[inline(always)]
+    fn nearest_lanes(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+        let r = RayLanes::new(ray);
+        let t_min = Lanes::splat(t_min);
+        let zero = Lanes::splat(0.0);
+        let mut best = Best {
+            t: Lanes::splat(t_max),
+            slot: Lanes::splat(f32::from_bits(u32::MAX)),
+            u: zero,
+            v: zero,
+        };
+        for p in &self.rects {
+            let (t, inside) = p.crossings(&r);
+            let take = t_min.lt(t) & t.lt(best.t) & inside;
+            best.keep(take, t, p.slot, zero, zero);
+        }
+        for p in &self.quads {
+            let (t, u, v) = p.crossings(&r);
+            let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
+            best.keep(take, t, p.slot, u, v);
+        }
+        // The nearest lane (lanes without a crossing keep `t_max`, beyond
+        // every crossing); of equal distances, the lowest slot.
+        let near = best.t.least();
+        let mut lanes = best.t.eq(Lanes::splat(near)).bits();
+        lanes &= !best
+            .slot
+            .eq_bits(Lanes::splat(f32::from_bits(u32::MAX)))
+            .bits();
+        let lane = match lanes.count_ones() {
+            0 => None,
+            1 => Some(lanes.trailing_zeros() as usize),
+            _ => (0..LANES)
+                .filter(|l| lanes & (1 << l) != 0)
+                .min_by_key(|&l| best.slot(l)),
+        };
+        let l = lane?;
+        Some((
+            best.slot(l) as usize,
+            Crossing {
+                t: best.t.0[l],
+                data: Vec3::new(best.u.0[l], best.v.0[l], 0.0),
+            },
+        ))
+    }
+
+    #[inline(always)]
+    fn occluded_lanes(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let r = RayLanes::new(ray);
+        let (t_min, t_max) = (Lanes::splat(t_min), Lanes::splat(t_max));
+        // Parallelograms first: in a room they are what stands inside.
+        let quads = self.quads.iter().any(|p| {
+            let (t, u, v) = p.crossings(&r);
+            (t_min.lt(t) & t.lt(t_max) & within_unit(u, v)).any()
+        });
+        quads
+            || self.rects.iter().any(|p| {
+                let (t, inside) = p.crossings(&r);
+                (t_min.lt(t) & t.lt(t_max) & inside).any()
+            })
+    }
+}
+
+/// Up to eight rects with their slots as one pack.
+fn rect_pack(faces: &[(u32, Rect)]) -> RectPack {
+    let lane = |f: &dyn Fn(&Rect) -> f32, empty: f32| {
+        Lanes(from_fn(|l| faces.get(l).map_or(empty, |(_, r)| f(r))))
+    };
+    let flag =
+        |f: &dyn Fn(&Rect) -> bool| Mask::of(from_fn(|l| faces.get(l).is_some_and(|(_, r)| f(r))));
+    RectPack {
+        k: lane(&|r| r.k, f32::NAN),
+        a: (lane(&|r| r.a.0, 0.0), lane(&|r| r.a.1, 0.0)),
+        b: (lane(&|r| r.b.0, 0.0), lane(&|r| r.b.1, 0.0)),
+        normal_x: flag(&|r| r.axis == 0),
+        normal_y: flag(&|r| r.axis == 1),
+        first_x: flag(&|r| r.span[0] == 0),
+        second_y: flag(&|r| r.span[1] == 1),
+        slot: slots(faces.iter().map(|f| f.0)),
+    }
+}
+
+/// Up to eight parallelograms with their slots as one pack.
+fn quad_pack(faces: &[(u32, Quad)]) -> QuadPack {
+    let lane =
+        |f: &dyn Fn(&Quad) -> f32| Lanes(from_fn(|l| faces.get(l).map_or(0.0, |(_, q)| f(q))));
+    let vec = |f: &dyn Fn(&Quad) -> Vec3| [0, 1, 2].map(|axis| lane(&|q| f(q)[axis]));
+    QuadPack {
+        corner: vec(&|q| q.corner),
+        edge_u: vec(&|q| q.edge_u),
+        edge_v: vec(&|q| q.edge_v),
+        normal: vec(&|q| q.normal),
+        inv_area: lane(&|q| q.inv_area()),
+        slot: slots(faces.iter().map(|f| f.0)),
+    }
+}
+
+/// Up to eight slots as float bits, `u32::MAX` in unused lanes.
+fn slots(given: impl Iterator<Item = u32>) -> Lanes {
+    let mut lanes = [f32::from_bits(u32::MAX); LANES];
+    for (lane, slot) in lanes.iter_mut().zip(given) {
+        *lane = f32::from_bits(slot);
+    }
+    Lanes(lanes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::rng::numbers;
+    use crate::scene::object::RectPlane;
+
+    /// Rects in all three planes and turned parallelograms around `at`,
+    /// `size` across: 9 rects and 14 parallelograms, so packs are full and
+    /// partial.
+    fn faces(at: Vec3, size: f32, r: &mut impl FnMut() -> f32) -> Vec<Primitive> {
+        let mut out = Vec::new();
+        for (i, plane) in [RectPlane::Xy, RectPlane::Xz, RectPlane::Yz]
+            .repeat(3)
+            .into_iter()
+            .enumerate()
+        {
+            let lo = (r() - 0.5) * size;
+            let span = (lo, lo + size * (0.2 + r()));
+            let k = at[[2, 1, 0][i % 3]] + (r() - 0.5) * size;
+            let (a, b) = match plane {
+                RectPlane::Xy => ((at.x, at.y), (at.x, at.y)),
+                RectPlane::Xz => ((at.x, at.z), (at.x, at.z)),
+                RectPlane::Yz => ((at.y, at.z), (at.y, at.z)),
+            };
+            out.push(Primitive::Rect(Rect::new(
+                plane,
+                (a.0 + span.0, a.0 + span.1),
+                (b.1 + span.0, b.1 + span.1),
+                k,
+            )));
+        }
+        while out.len() < 23 {
+            let v = |r: &mut dyn FnMut() -> f32| Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * size;
+            let corner = at + v(r);
+            let (u, w) = (v(r), v(r));
+            if let Some(q) = Quad::new(corner, u, w, u.cross(w)) {
+                out.push(Primitive::Quad(q));
+            }
+        }
+        out
+    }
+
+    /// Rays through the faces' region, some aimed at corners and edges, some
+    /// parallel to an axis or with zero components.
+    fn rays(prims: &[Primitive], at: Vec3, size: f32, r: &mut impl FnMut() -> f32) -> Vec<Ray> {
+        let mut out = Vec::new();
+        for i in 0..4000 {
+            let from = at + Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 3.0 * size;
+            let target = match (i % 4, &prims[i % prims.len()]) {
+                (0, Primitive::Quad(q)) => q.corner + q.edge_u * (i % 3) as f32 * 0.5,
+                (1, Primitive::Rect(rc)) => {
+                    let mut p = Vec3::splat(rc.k);
+                    p[rc.span[0] as usize] = rc.a.1;
+                    p[rc.span[1] as usize] = rc.b.0 + r() * (rc.b.1 - rc.b.0);
+                    p
+                }
+                _ => at + Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * size,
+            };
+            let mut dir = target - from;
+            if i % 7 == 0 {
+                dir[i % 3] = 0.0;
+            }
+            if i % 11 == 0 {
+                dir = Vec3::ZERO.with_x(-1.0);
+            }
+            out.push(Ray::new(from, dir, 0.0));
+        }
+        out
+    }
+
+    /// Every face's own test, slot by slot (a later face replaces an earlier
+    /// one only when strictly nearer).
+    fn one_by_one(
+        prims: &[Primitive],
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(usize, Crossing)> {
+        let mut best = None;
+        let mut t_max = t_max;
+        for (slot, p) in prims.iter().enumerate() {
+            if let Some(c) = p.crossing(ray, t_min, t_max) {
+                t_max = c.t;
+                best = Some((slot, c));
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn each_lane_gives_the_face_own_crossing_bit_for_bit() {
+        let mut r = numbers(11);
+        let (mut hits, mut blocked) = (0, 0);
+        for (at, size) in [
+            (Vec3::ZERO, 1.0),
+            (Vec3::new(1e5, -3e4, 7e3), 300.0),
+            (Vec3::splat(-40.0), 1e-2),
+        ] {
+            let prims = faces(at, size, &mut r);
+            let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
+            for ray in rays(&prims, at, size, &mut r) {
+                let want = one_by_one(&prims, &ray, 0.0, f32::INFINITY);
+                // The lanes as compiled for any CPU, and the copy this CPU runs.
+                for got in [
+                    flat.nearest_lanes(&ray, 0.0, f32::INFINITY),
+                    flat.nearest(&ray, 0.0, f32::INFINITY),
+                ] {
+                    match (got, want) {
+                        (None, None) => {}
+                        (Some((gs, g)), Some((ws, w))) => {
+                            assert_eq!(g.t.to_bits(), w.t.to_bits(), "{ray:?}");
+                            // A tie may go to either face, each with its own data.
+                            let own = prims[gs]
+                                .crossing(&ray, 0.0, f32::INFINITY)
+                                .expect("crossed");
+                            assert_eq!(own.t.to_bits(), g.t.to_bits());
+                            assert_eq!(
+                                own.data.to_array().map(f32::to_bits),
+                                g.data.to_array().map(f32::to_bits)
+                            );
+                            if gs != ws {
+                                assert_eq!(g.t, w.t);
+                            }
+                            hits += 1;
+                        }
+                        _ => panic!("{got:?} against {want:?} for {ray:?}"),
+                    }
+                }
+                for t_max in [f32::INFINITY, r() * size, want.map_or(1.0, |w| w.1.t)] {
+                    let any = prims.iter().any(|p| p.crossing(&ray, 0.0, t_max).is_some());
+                    assert_eq!(flat.occluded_lanes(&ray, 0.0, t_max), any);
+                    assert_eq!(flat.occluded(&ray, 0.0, t_max), any);
+                    blocked += usize::from(any);
+                }
+            }
+        }
+        assert!(
+            hits > 10_000 && blocked > 10_000,
+            "{hits} hits, {blocked} blocked"
+        );
+    }
+
+    #[test]
+    fn only_small_sets_of_flat_faces_are_packed() {
+        let mut r = numbers(5);
+        let prims = faces(Vec3::ZERO, 1.0, &mut r);
+        assert!(FlatFaces::new(&prims).is_some());
+        assert!(FlatFaces::new(&[]).is_none());
+        let many: Vec<Primitive> = prims.iter().cycle().take(MAX_FACES + 1).copied().collect();
+        assert!(FlatFaces::new(&many).is_none());
+        let sphere = Primitive::Sphere(crate::geometry::shapes::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        });
+        assert!(FlatFaces::new(&[prims[0], sphere]).is_none());
+    }
+}
