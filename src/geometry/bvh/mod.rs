@@ -38,12 +38,15 @@ const SLOT_MASK: u32 = (1 << 29) - 1;
 /// How the primitives of a leaf are tested, which sets what a leaf costs
 /// the surface-area heuristic.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Leaves {
+pub enum Leaves<'a> {
     /// One by one: a leaf costs one test per primitive.
     Scalar,
     /// Four at once ([`crate::geometry::leaf`]): a leaf of up to four costs
     /// about one test, so leaves come out full.
     Packed,
+    /// Four at once where every primitive of the leaf is flagged (the
+    /// spheres of a set of several kinds), one by one elsewhere.
+    PackedWhere(&'a [bool]),
 }
 
 /// The hierarchy: wide nodes (root first) and the box around everything.

@@ -77,10 +77,12 @@ fn build_node(nodes: &mut Vec<BinaryNode>, items: &mut [BuildItem], first: usize
         return;
     }
     let split = best_split(items, &centroids, bounds.area());
-    let leaf_cost = match leaves {
-        Leaves::Scalar => items.len() as f32,
-        Leaves::Packed => 1.0,
+    let packed = match leaves {
+        Leaves::Scalar => false,
+        Leaves::Packed => true,
+        Leaves::PackedWhere(flags) => items.iter().all(|it| flags[it.index as usize]),
     };
+    let leaf_cost = if packed { 1.0 } else { items.len() as f32 };
     if items.len() <= MAX_LEAF && split.is_none_or(|(_, _, cost)| cost >= leaf_cost) {
         leaf(nodes);
         return;
@@ -313,6 +315,71 @@ mod tests {
         };
         let (nodes, order) = build(1);
         assert_eq!(build(4), (nodes.clone(), order.clone()));
+        let mut seen = vec![false; boxes.len()];
+        assert_eq!(check(&nodes, 0, &boxes, &order, &mut seen), nodes.len());
+        assert!(seen.iter().all(|&s| s), "every slot in a leaf");
+    }
+
+    /// The primitive indices of each leaf, as sets.
+    fn leaf_sets(nodes: &[BinaryNode], order: &[u32]) -> Vec<Vec<u32>> {
+        let mut out: Vec<Vec<u32>> = nodes
+            .iter()
+            .filter(|n| n.count > 0)
+            .map(|n| {
+                let mut leaf = order[n.offset as usize..(n.offset + n.count) as usize].to_vec();
+                leaf.sort_unstable();
+                leaf
+            })
+            .collect();
+        out.sort();
+        out
+    }
+
+    #[test]
+    fn flagged_items_fill_their_leaves_and_the_others_keep_the_scalar_leaves() {
+        // Overlapping flagged boxes in one half of the unit cube, unflagged
+        // ones in the other, so the root's split separates the two kinds.
+        let mut u = numbers(3);
+        let boxes: Vec<Aabb> = (0..2000)
+            .map(|i| {
+                let x = 0.5 * u() + if i % 2 == 0 { 0.0 } else { 0.5 };
+                let c = Vec3::new(x, u(), u());
+                Aabb::new(c - Vec3::splat(0.05), c + Vec3::splat(0.05))
+            })
+            .collect();
+        let flags: Vec<bool> = (0..boxes.len()).map(|i| i % 2 == 0).collect();
+        let mean_size = |leaves: &[Vec<u32>], flagged: bool| {
+            let kind: Vec<&Vec<u32>> = leaves
+                .iter()
+                .filter(|l| flags[l[0] as usize] == flagged)
+                .collect();
+            kind.iter().map(|l| l.len()).sum::<usize>() as f32 / kind.len() as f32
+        };
+        let (scalar_nodes, scalar_order) = binary_tree(&boxes, Leaves::Scalar);
+        let (nodes, order) = binary_tree(&boxes, Leaves::PackedWhere(&flags));
+        let (scalar, mixed) = (
+            leaf_sets(&scalar_nodes, &scalar_order),
+            leaf_sets(&nodes, &order),
+        );
+        // No leaf mixes the kinds here, and the flagged leaves come out fuller.
+        for leaf in &mixed {
+            assert!(leaf
+                .iter()
+                .all(|&i| flags[i as usize] == flags[leaf[0] as usize]));
+        }
+        assert!(
+            mean_size(&scalar, true) < 1.5,
+            "{}",
+            mean_size(&scalar, true)
+        );
+        assert!(mean_size(&mixed, true) > 2.5, "{}", mean_size(&mixed, true));
+        let unflagged = |sets: &[Vec<u32>]| -> Vec<Vec<u32>> {
+            sets.iter()
+                .filter(|l| !flags[l[0] as usize])
+                .cloned()
+                .collect()
+        };
+        assert_eq!(unflagged(&mixed), unflagged(&scalar));
         let mut seen = vec![false; boxes.len()];
         assert_eq!(check(&nodes, 0, &boxes, &order, &mut seen), nodes.len());
         assert!(seen.iter().all(|&s| s), "every slot in a leaf");
