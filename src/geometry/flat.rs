@@ -153,10 +153,9 @@ struct RectPack {
 #[derive(Clone, Copy, Debug)]
 struct QuadPack {
     corner: [Lanes; 3],
-    edge_u: [Lanes; 3],
-    edge_v: [Lanes; 3],
     normal: [Lanes; 3],
-    inv_area: Lanes,
+    across_u: [Lanes; 3],
+    across_v: [Lanes; 3],
     slot: Lanes,
 }
 
@@ -232,14 +231,11 @@ impl RectPack {
 
 impl QuadPack {
     /// Each lane's `t`, `u` and `v` by `Quad::crossing`'s operations in
-    /// glam's order (dot products left to right, cross products component
-    /// by component).
+    /// glam's order (dot products left to right).
     #[inline(always)]
     fn crossings(&self, r: &RayLanes) -> (Lanes, Lanes, Lanes) {
         let [nx, ny, nz] = self.normal;
         let [cx, cy, cz] = self.corner;
-        let [ux, uy, uz] = self.edge_u;
-        let [vx, vy, vz] = self.edge_v;
         let ([ox, oy, oz], [dx, dy, dz]) = (r.o, r.d);
         let denom = nx * dx + ny * dy + nz * dz;
         let num = nx * (cx - ox) + ny * (cy - oy) + nz * (cz - oz);
@@ -247,13 +243,8 @@ impl QuadPack {
         let rx = (ox + t * dx) - cx;
         let ry = (oy + t * dy) - cy;
         let rz = (oz + t * dz) - cz;
-        // rel × edge_v, then · normal
-        let (ax, ay, az) = (ry * vz - vy * rz, rz * vx - vz * rx, rx * vy - vx * ry);
-        // edge_u × rel, then · normal
-        let (bx, by, bz) = (uy * rz - ry * uz, uz * rx - rz * ux, ux * ry - rx * uy);
-        let u = (ax * nx + ay * ny + az * nz) * self.inv_area;
-        let v = (bx * nx + by * ny + bz * nz) * self.inv_area;
-        (t, u, v)
+        let dot = |[x, y, z]: [Lanes; 3]| rx * x + ry * y + rz * z;
+        (t, dot(self.across_u), dot(self.across_v))
     }
 }
 
@@ -425,10 +416,9 @@ fn quad_pack(faces: &[(u32, Quad)]) -> QuadPack {
     let vec = |f: &dyn Fn(&Quad) -> Vec3| [0, 1, 2].map(|axis| lane(&|q| f(q)[axis]));
     QuadPack {
         corner: vec(&|q| q.corner),
-        edge_u: vec(&|q| q.edge_u),
-        edge_v: vec(&|q| q.edge_v),
         normal: vec(&|q| q.normal),
-        inv_area: lane(&|q| q.inv_area()),
+        across_u: vec(&|q| q.across().0),
+        across_v: vec(&|q| q.across().1),
         slot: slots(faces.iter().map(|f| f.0)),
     }
 }
