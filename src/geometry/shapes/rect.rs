@@ -81,7 +81,7 @@ impl Rect {
     }
 
     /// The hit at crossing `c` of `ray`, as [`Rect::intersect`] has it.
-    #[inline]
+    #[inline(always)]
     pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
         let (ax, t) = (self.axis as usize, c.t);
         let on = axis_lane(ax);
