@@ -1,10 +1,13 @@
 //! A small set of flat faces (axis-aligned rects and parallelograms, as
 //! the Cornell box's walls and turned boxes) tested eight at a time, every
-//! face against each ray, with no hierarchy. Each lane repeats the face's
-//! own `crossing` operation for operation, in the same order, so a ray's
-//! crossings are the ones each face gives it alone, bit for bit; only a tie
-//! (two faces crossed at exactly the same distance, as on a shared edge)
-//! may go to another face than a walk of the set's BVH picks.
+//! face against each ray, with no hierarchy. A rect's lane repeats
+//! `Rect::crossing` operation for operation, so its crossing is the scalar
+//! one bit for bit. A parallelogram's distance is `Quad::crossing`'s bit for
+//! bit; its `u` and `v` come from two dot products with vectors precomputed
+//! per face (the scalar test's triple products rearranged), a few roundings
+//! from the scalar ones, so a ray within those roundings of an edge may be
+//! judged otherwise than a walk of the set's BVH judges it, as may a tie
+//! between two faces at one distance.
 //!
 //! For so few faces one AVX pass per eight faces costs less than a walk,
 //! whose node visits and branches follow each ray (docs/performance.md,
@@ -122,12 +125,20 @@ impl Mask {
     /// Bit `lane` set where the lane is.
     #[inline(always)]
     fn bits(self) -> u32 {
-        (0..LANES).fold(0, |b, l| b | (self.0[l] as u32 & 1) << l)
+        let mut bits = 0;
+        for l in 0..LANES {
+            bits |= (self.0[l] as u32 & 1) << l;
+        }
+        bits
     }
 
     #[inline(always)]
     fn any(self) -> bool {
-        self.0.iter().fold(0, |a, &m| a | m) != 0
+        let mut any = 0;
+        for m in self.0 {
+            any |= m;
+        }
+        any != 0
     }
 }
 
@@ -148,8 +159,14 @@ struct RectPack {
     slot: Lanes,
 }
 
-/// Eight parallelograms as [`Quad::crossing`] reads them. An
-/// unused lane has a zero normal, which gives a NaN distance.
+/// Eight parallelograms, each lane's `u` and `v` found by two dot
+/// products: `Quad::crossing`'s triple products `(rel × edge_v) · normal`
+/// and `(edge_u × rel) · normal`, over the area, rearranged as `rel ·
+/// across_u` and `rel · across_v` with `across_u = (edge_v × normal) / area`
+/// and `across_v = (normal × edge_u) / area` precomputed per face. The
+/// distance is `Quad::crossing`'s, bit for bit; `u` and `v` differ from it
+/// by a few roundings. An unused lane has a zero normal, which gives a NaN
+/// distance.
 #[derive(Clone, Copy, Debug)]
 struct QuadPack {
     corner: [Lanes; 3],
@@ -230,8 +247,8 @@ impl RectPack {
 }
 
 impl QuadPack {
-    /// Each lane's `t`, `u` and `v` by `Quad::crossing`'s operations in
-    /// glam's order (dot products left to right).
+    /// Each lane's `t` by `Quad::crossing`'s operations in glam's order
+    /// (dot products left to right), and its `u` and `v`.
     #[inline(always)]
     fn crossings(&self, r: &RayLanes) -> (Lanes, Lanes, Lanes) {
         let [nx, ny, nz] = self.normal;
@@ -373,20 +390,26 @@ impl FlatFaces {
         ))
     }
 
+    /// Plain loops, not iterator adaptors: a closure the compiler keeps
+    /// out of line is compiled without AVX, whatever calls it.
     #[inline(always)]
     fn occluded_lanes(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let r = RayLanes::new(ray);
         let (t_min, t_max) = (Lanes::splat(t_min), Lanes::splat(t_max));
         // Parallelograms first: in a room they are what stands inside.
-        let quads = self.quads.iter().any(|p| {
+        for p in &self.quads {
             let (t, u, v) = p.crossings(&r);
-            (t_min.lt(t) & t.lt(t_max) & within_unit(u, v)).any()
-        });
-        quads
-            || self.rects.iter().any(|p| {
-                let (t, inside) = p.crossings(&r);
-                (t_min.lt(t) & t.lt(t_max) & inside).any()
-            })
+            if (t_min.lt(t) & t.lt(t_max) & within_unit(u, v)).any() {
+                return true;
+            }
+        }
+        for p in &self.rects {
+            let (t, inside) = p.crossings(&r);
+            if (t_min.lt(t) & t.lt(t_max) & inside).any() {
+                return true;
+            }
+        }
+        false
     }
 }
 
@@ -411,14 +434,14 @@ fn rect_pack(faces: &[(u32, Rect)]) -> RectPack {
 
 /// Up to eight parallelograms with their slots as one pack.
 fn quad_pack(faces: &[(u32, Quad)]) -> QuadPack {
-    let lane =
-        |f: &dyn Fn(&Quad) -> f32| Lanes(from_fn(|l| faces.get(l).map_or(0.0, |(_, q)| f(q))));
-    let vec = |f: &dyn Fn(&Quad) -> Vec3| [0, 1, 2].map(|axis| lane(&|q| f(q)[axis]));
+    let vec = |f: &dyn Fn(&Quad) -> Vec3| {
+        [0, 1, 2].map(|axis| Lanes(from_fn(|l| faces.get(l).map_or(0.0, |(_, q)| f(q)[axis]))))
+    };
     QuadPack {
         corner: vec(&|q| q.corner),
         normal: vec(&|q| q.normal),
-        across_u: vec(&|q| q.across().0),
-        across_v: vec(&|q| q.across().1),
+        across_u: vec(&|q| q.edge_v.cross(q.normal) * q.inv_area()),
+        across_v: vec(&|q| q.normal.cross(q.edge_u) * q.inv_area()),
         slot: slots(faces.iter().map(|f| f.0)),
     }
 }
@@ -521,10 +544,30 @@ mod tests {
         best
     }
 
+    /// How far from a parallelogram's edges the ray's line meets its plane,
+    /// in `u` and `v`, by `Quad::crossing`'s operations without its range
+    /// test: the smallest of |u|, |1 − u|, |v|, |1 − v|. Infinite for rects.
+    fn edge_distance(p: &Primitive, ray: &Ray) -> f32 {
+        let Primitive::Quad(q) = p else {
+            return f32::INFINITY;
+        };
+        let t = q.normal.dot(q.corner - ray.origin) / q.normal.dot(ray.dir);
+        let rel = ray.at(t) - q.corner;
+        let u = rel.cross(q.edge_v).dot(q.normal) * q.inv_area();
+        let v = q.edge_u.cross(rel).dot(q.normal) * q.inv_area();
+        [u, 1.0 - u, v, 1.0 - v]
+            .map(f32::abs)
+            .into_iter()
+            .fold(f32::INFINITY, f32::min)
+    }
+
+    /// What rounding may decide: a parallelogram met within this of an edge.
+    const GRAZE: f32 = 1e-5;
+
     #[test]
-    fn each_lane_gives_the_face_own_crossing_bit_for_bit() {
+    fn each_lane_gives_the_face_own_crossing() {
         let mut r = numbers(11);
-        let (mut hits, mut blocked) = (0, 0);
+        let (mut hits, mut blocked, mut grazes) = (0, 0, 0);
         for (at, size) in [
             (Vec3::ZERO, 1.0),
             (Vec3::new(1e5, -3e4, 7e3), 300.0),
@@ -534,6 +577,7 @@ mod tests {
             let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
             for ray in rays(&prims, at, size, &mut r) {
                 let want = one_by_one(&prims, &ray, 0.0, f32::INFINITY);
+                let grazed = || prims.iter().any(|p| edge_distance(p, &ray) < GRAZE);
                 // The lanes as compiled for any CPU, and the copy this CPU runs.
                 for got in [
                     flat.nearest_lanes(&ray, 0.0, f32::INFINITY),
@@ -541,36 +585,43 @@ mod tests {
                 ] {
                     match (got, want) {
                         (None, None) => {}
-                        (Some((gs, g)), Some((ws, w))) => {
-                            assert_eq!(g.t.to_bits(), w.t.to_bits(), "{ray:?}");
-                            // A tie may go to either face, each with its own data.
-                            let own = prims[gs]
-                                .crossing(&ray, 0.0, f32::INFINITY)
-                                .expect("crossed");
-                            assert_eq!(own.t.to_bits(), g.t.to_bits());
-                            assert_eq!(
-                                own.data.to_array().map(f32::to_bits),
-                                g.data.to_array().map(f32::to_bits)
-                            );
-                            if gs != ws {
-                                assert_eq!(g.t, w.t);
+                        (Some((gs, g)), Some((ws, w))) if g.t == w.t => {
+                            // A tie may go to either face. The distance is
+                            // the face's own, bit for bit; a rect's data too,
+                            // a parallelogram's (u, v) to a few roundings.
+                            let own = prims[gs].crossing(&ray, 0.0, f32::INFINITY);
+                            if let Some(own) = own {
+                                assert_eq!(own.t.to_bits(), g.t.to_bits());
+                                let off = (own.data - g.data).abs().max_element();
+                                assert!(off <= 4.0 * f32::EPSILON, "{own:?} {g:?}");
+                            } else {
+                                assert!(edge_distance(&prims[gs], &ray) < GRAZE);
                             }
+                            assert!(gs == ws || g.t.to_bits() == w.t.to_bits() || grazed());
                             hits += 1;
                         }
-                        _ => panic!("{got:?} against {want:?} for {ray:?}"),
+                        // Otherwise the two tests judged a graze otherwise.
+                        _ => {
+                            assert!(grazed(), "{got:?} against {want:?} for {ray:?}");
+                            grazes += 1;
+                        }
                     }
                 }
                 for t_max in [f32::INFINITY, r() * size, want.map_or(1.0, |w| w.1.t)] {
                     let any = prims.iter().any(|p| p.crossing(&ray, 0.0, t_max).is_some());
-                    assert_eq!(flat.occluded_lanes(&ray, 0.0, t_max), any);
-                    assert_eq!(flat.occluded(&ray, 0.0, t_max), any);
+                    for blocks in [
+                        flat.occluded_lanes(&ray, 0.0, t_max),
+                        flat.occluded(&ray, 0.0, t_max),
+                    ] {
+                        assert!(blocks == any || grazed(), "{ray:?} to {t_max}");
+                    }
                     blocked += usize::from(any);
                 }
             }
         }
         assert!(
-            hits > 10_000 && blocked > 10_000,
-            "{hits} hits, {blocked} blocked"
+            hits > 10_000 && blocked > 10_000 && grazes < 100,
+            "{hits} hits, {blocked} blocked, {grazes} grazes"
         );
     }
 

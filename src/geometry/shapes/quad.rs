@@ -19,13 +19,9 @@ pub struct Quad {
     /// Unit outward normal (perpendicular to both edges, on the side the
     /// face's outside was on before the map, whatever the edges' order).
     pub normal: Vec3,
-    /// `(edge_v × normal) / a` and `(normal × edge_u) / a`, where
-    /// `a = (edge_u × edge_v) · normal`: a point's offset from the corner
-    /// dotted with them gives its `u` and `v` (the triple products
-    /// `((p − corner) × edge_v) · normal / a` and `(edge_u × (p − corner)) ·
-    /// normal / a`, rearranged so that a test costs two dot products).
-    across_u: Vec3,
-    across_v: Vec3,
+    /// `1 / ((edge_u × edge_v) · normal)`: turns the triple products that
+    /// measure a point against the edges into `u` and `v`.
+    inv_area: f32,
 }
 
 impl Quad {
@@ -47,23 +43,20 @@ impl Quad {
             normal = -normal;
         }
         let inv_area = 1.0 / cross.dot(normal);
-        let across_u = edge_v.cross(normal) * inv_area;
-        let across_v = normal.cross(edge_u) * inv_area;
-        (across_u.is_finite() && across_v.is_finite()).then_some(Quad {
+        inv_area.is_finite().then_some(Quad {
             corner,
             edge_u,
             edge_v,
             normal,
-            across_u,
-            across_v,
+            inv_area,
         })
     }
 
     /// The same parallelogram and uv with its outside on the other side.
     pub fn flipped(&self) -> Quad {
-        // Both signs of `across_u` and `across_v` flip with the normal.
         Quad {
             normal: -self.normal,
+            inv_area: -self.inv_area,
             ..*self
         }
     }
@@ -86,9 +79,9 @@ impl Quad {
         Some(self.surface(&c))
     }
 
-    /// The vectors that give a point's `u` and `v` (see the fields).
-    pub fn across(&self) -> (Vec3, Vec3) {
-        (self.across_u, self.across_v)
+    /// `1 / ((edge_u × edge_v) · normal)`.
+    pub fn inv_area(&self) -> f32 {
+        self.inv_area
     }
 
     /// The crossing with `t` in `(t_min, t_max)`; its data holds `(u, v)`.
@@ -101,8 +94,8 @@ impl Quad {
             return None;
         }
         let rel = ray.at(t) - self.corner;
-        let u = rel.dot(self.across_u);
-        let v = rel.dot(self.across_v);
+        let u = rel.cross(self.edge_v).dot(n) * self.inv_area;
+        let v = self.edge_u.cross(rel).dot(n) * self.inv_area;
         if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
             return None;
         }
