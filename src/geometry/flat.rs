@@ -14,7 +14,10 @@
 //! session 14). The lanes are plain arrays with branch-free operations that
 //! the compiler turns into vector instructions; the tests are compiled
 //! twice and the AVX copy is picked at run time, with the same IEEE
-//! operations in both.
+//! operations in both. Not `wide::f32x8`, which the project uses elsewhere:
+//! its width is fixed when `wide` is compiled, so inside a function given
+//! AVX at run time it stays two SSE halves (session 13 measured it at 78 %
+//! of the arrays' rate).
 
 use std::array::from_fn;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
@@ -214,7 +217,7 @@ impl Best {
         self.slot = take.select(slot, self.slot);
     }
 
-    /// The slot in `lane`, `u32::MAX` for none.
+    /// The slot in `lane` (`u32::MAX` where the lane found no crossing).
     #[inline(always)]
     fn slot(&self, lane: usize) -> u32 {
         self.slot.0[lane].to_bits()
@@ -368,10 +371,15 @@ impl FlatFaces {
             let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
             best.keep(take, t, p.slot, u, v);
         }
-        // The nearest lane (lanes without a crossing keep `t_max`, beyond
-        // every crossing); of equal distances, the lowest slot.
+        // The nearest lane; of equal distances, the lowest slot. A lane
+        // without a crossing keeps `t_max`, and every crossing is strictly
+        // nearer, so the least distance is a crossing unless there is none.
         let near = best.t.least();
         let mut lanes = best.t.eq(Lanes::splat(near)).bits();
+        // Lanes without a crossing keep `t_max` and slot `u32::MAX`. Testing
+        // `near < t_max` instead would say the same, but then the compiler
+        // takes the slots out of their vector and runs the passes a lane at a
+        // time: 747 M → 1 064 M instructions for a Cornell render.
         lanes &= !best
             .slot
             .eq_bits(Lanes::splat(f32::from_bits(u32::MAX)))
@@ -588,7 +596,8 @@ mod tests {
                 ] {
                     match (got, want) {
                         (None, None) => {}
-                        (Some((gs, g)), Some((ws, w))) if g.t == w.t => {
+                        // Another face than the scalar loop's only in a tie.
+                        (Some((gs, g)), Some((_, w))) if g.t == w.t => {
                             // A tie may go to either face. The distance is
                             // the face's own, bit for bit; a rect's data too,
                             // a parallelogram's (u, v) to a few roundings.
@@ -600,7 +609,6 @@ mod tests {
                             } else {
                                 assert!(edge_distance(&prims[gs], &ray) < GRAZE);
                             }
-                            assert!(gs == ws || g.t.to_bits() == w.t.to_bits() || grazed());
                             hits += 1;
                         }
                         // Otherwise the two tests judged a graze otherwise.
@@ -622,6 +630,7 @@ mod tests {
                 }
             }
         }
+        eprintln!("{hits} hits, {blocked} blocked, {grazes} grazes");
         assert!(
             hits > 10_000 && blocked > 10_000 && grazes < 100,
             "{hits} hits, {blocked} blocked, {grazes} grazes"

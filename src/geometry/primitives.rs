@@ -95,7 +95,9 @@ pub struct PrimitiveSet {
     /// The leaves of two or more spheres, packed for a four-lane test.
     spheres: Packs<SphereLeaf>,
     /// A few rects and parallelograms only: tested all at once, eight
-    /// lanes at a time, instead of walked.
+    /// lanes at a time, instead of walked. The BVH is built all the same:
+    /// its leaf order numbers the slots, which break ties between faces at
+    /// one distance, and it holds the bounds.
     flat: Option<FlatFaces>,
 }
 

@@ -367,6 +367,11 @@ mod tests {
                 .iter()
                 .all(|&i| flags[i as usize] == flags[leaf[0] as usize]));
         }
+        eprintln!(
+            "flagged leaves: {} packed, {} scalar",
+            mean_size(&mixed, true),
+            mean_size(&scalar, true)
+        );
         assert!(
             mean_size(&scalar, true) < 1.5,
             "{}",
