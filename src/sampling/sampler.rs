@@ -14,8 +14,9 @@
 //! first 2^m samples of a pixel are a (0,m,2)-net in every 2-D slot.
 //!
 //! `begin` positions the handle at a slot of the current bounce; draws after
-//! it take the following slots in order. The independent sampler ignores
-//! slots and draws its stream in call order.
+//! it take the following slots in order. `draw_ahead` computes a slot's
+//! draw before it is asked for (the same numbers, earlier). The independent
+//! sampler ignores slots and draws its stream in call order.
 
 use glam::Vec2;
 
@@ -78,6 +79,23 @@ pub struct Sampler {
     reversed_index: u32,
     bounce: u32,
     slot: u32,
+    /// The draw [`Sampler::draw_ahead`] made, with its slot.
+    ahead: Held,
+}
+
+/// A 2-D draw made ahead of its use, and its slot (`u64::MAX`, no slot,
+/// when it holds none).
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    slot: u64,
+    value: Vec2,
+}
+
+impl Held {
+    const NONE: Held = Held {
+        slot: u64::MAX,
+        value: Vec2::ZERO,
+    };
 }
 
 impl Sampler {
@@ -94,6 +112,7 @@ impl Sampler {
             reversed_index: index.reverse_bits(),
             bounce: 0,
             slot: 0,
+            ahead: Held::NONE,
         }
     }
 
@@ -106,8 +125,14 @@ impl Sampler {
     /// Moves to the first slot of `dim` (in the current bounce).
     #[inline]
     pub fn begin(&mut self, dim: Dim) {
+        self.slot = self.slot_of(dim);
+    }
+
+    /// The first slot of `dim` in the current bounce.
+    #[inline]
+    fn slot_of(&self, dim: Dim) -> u32 {
         let bounce = CAMERA_SLOTS.saturating_add(self.bounce.saturating_mul(BOUNCE_SLOTS));
-        self.slot = match dim {
+        match dim {
             Dim::Camera => 0,
             Dim::Light => bounce,
             Dim::Bsdf => bounce + 2,
@@ -116,13 +141,55 @@ impl Sampler {
             Dim::Medium(k) => EXTRA_SLOTS
                 .wrapping_add(self.bounce.wrapping_mul(1 << 16))
                 .wrapping_add(k),
+        }
+    }
+
+    /// Makes now the 2-D draw of the first slot of `dim` in the current
+    /// bounce. A later `next_2d` at that slot returns the held draw, and a
+    /// `next_1d` its first number, which is that slot's 1-D draw: the
+    /// numbers are the same as without it, only computed earlier. A caller
+    /// draws ahead what it will need after a long computation that does not
+    /// depend on it (a ray's intersection), so that the scramble's chain of
+    /// dependent multiplications runs beside it instead of after it.
+    /// Sobol' only: the independent sampler draws in call order.
+    #[inline]
+    pub fn draw_ahead(&mut self, dim: Dim) {
+        if self.kind != SamplerKind::Sobol {
+            return;
+        }
+        let slot = self.slot_of(dim);
+        self.ahead = Held {
+            slot: u64::from(slot),
+            value: self.sobol_2d(slot),
         };
+    }
+
+    /// The held draw of the current slot, if [`Sampler::draw_ahead`] made it.
+    #[inline]
+    fn held(&self) -> Option<Vec2> {
+        (self.ahead.slot == u64::from(self.slot)).then_some(self.ahead.value)
+    }
+
+    /// The Sobol' 2-D draw of `slot`.
+    #[inline]
+    fn sobol_2d(&self, slot: u32) -> Vec2 {
+        let h = self.seeds_of(slot);
+        let third = mix(h) as u32;
+        let seeds = [h as u32, (h >> 32) as u32, third];
+        let (a, b) = sobol::point2_reversed(self.reversed_index, seeds);
+        Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
+    }
+
+    /// Seeds of `slot`.
+    #[inline]
+    fn seeds_of(&self, slot: u32) -> u64 {
+        mix(self.pixel ^ u64::from(slot).wrapping_mul(0x9e37_79b9_7f4a_7c15))
     }
 
     /// Seeds of the current slot, and moves on to the next.
     #[inline]
     fn slot_seeds(&mut self) -> u64 {
-        let h = mix(self.pixel ^ u64::from(self.slot).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let h = self.seeds_of(self.slot);
         self.slot = self.slot.wrapping_add(1);
         h
     }
@@ -133,6 +200,10 @@ impl Sampler {
         match self.kind {
             SamplerKind::Independent => self.rng.next_f32(),
             SamplerKind::Sobol => {
+                if let Some(held) = self.held() {
+                    self.slot = self.slot.wrapping_add(1);
+                    return held.x;
+                }
                 let h = self.slot_seeds();
                 sobol::to_unit(sobol::point1_reversed(
                     self.reversed_index,
@@ -172,11 +243,12 @@ impl Sampler {
                 Vec2::new(x, self.rng.next_f32())
             }
             SamplerKind::Sobol => {
-                let h = self.slot_seeds();
-                let third = mix(h) as u32;
-                let seeds = [h as u32, (h >> 32) as u32, third];
-                let (a, b) = sobol::point2_reversed(self.reversed_index, seeds);
-                Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
+                let v = match self.held() {
+                    Some(held) => held,
+                    None => self.sobol_2d(self.slot),
+                };
+                self.slot = self.slot.wrapping_add(1);
+                v
             }
         }
     }
@@ -242,6 +314,41 @@ mod tests {
         b.start_bounce(1);
         b.begin(Dim::Roulette);
         assert_ne!(b.next_1d(), direct);
+    }
+
+    #[test]
+    fn draws_made_ahead_are_the_draws_made_in_place() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            for (bounce, i) in [(0, 0), (3, 17), (12, 1000)] {
+                // Drawn in place: the direction, its lobe, roulette, the
+                // next bounce's direction, and a 1-D draw of its first slot.
+                let mut plain = Sampler::for_sample(kind, 2, 3, 4, i);
+                let mut ahead = plain.clone();
+                let draw = |s: &mut Sampler, early: bool| {
+                    s.start_bounce(bounce);
+                    if early {
+                        s.draw_ahead(Dim::Bsdf);
+                    }
+                    s.begin(Dim::Bsdf);
+                    let (dir, lobe) = (s.next_2d(), s.next_1d());
+                    s.begin(Dim::Roulette);
+                    let roulette = s.next_1d();
+                    s.start_bounce(bounce + 1);
+                    if early {
+                        s.draw_ahead(Dim::Bsdf);
+                    }
+                    s.begin(Dim::Bsdf);
+                    (dir, lobe, roulette, s.next_1d())
+                };
+                let (a, b) = (draw(&mut plain, false), draw(&mut ahead, true));
+                assert_eq!(a, b, "{kind:?}, bounce {bounce}, sample {i}");
+                // A held draw is not a stale one: the next bounce's slot
+                // gave its own number, not the previous bounce's.
+                if kind == SamplerKind::Sobol {
+                    assert_ne!(a.0.x, a.3);
+                }
+            }
+        }
     }
 
     #[test]
