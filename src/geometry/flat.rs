@@ -100,14 +100,6 @@ impl Lanes {
         Mask(from_fn(|l| -i32::from(self.0[l] == o.0[l])))
     }
 
-    /// Lanes whose bits are equal (for slots stored as float bits).
-    #[inline(always)]
-    fn eq_bits(self, o: Lanes) -> Mask {
-        Mask(from_fn(|l| {
-            -i32::from(self.0[l].to_bits() == o.0[l].to_bits())
-        }))
-    }
-
     #[inline(always)]
     fn le(self, o: Lanes) -> Mask {
         Mask(from_fn(|l| -i32::from(self.0[l] <= o.0[l])))
@@ -126,6 +118,35 @@ impl Mask {
     #[inline(always)]
     fn select(self, a: Lanes, b: Lanes) -> Lanes {
         Lanes(from_fn(|l| if self.0[l] < 0 { a.0[l] } else { b.0[l] }))
+    }
+
+    /// [`Mask::bits`] in the copy compiled with AVX: one `vmovmskps`. The
+    /// portable loop compiled there to a `vmovmskps` of the low half and
+    /// shuffles, ands and ors for the high half (AVX has no 256-bit integer
+    /// compare, so the lanes were split), some twenty instructions.
+    ///
+    /// # Safety
+    /// Only in code compiled with AVX, on a CPU that has it.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn bits_avx(self) -> u32 {
+        use std::arch::x86_64::{__m256, _mm256_movemask_ps};
+        // SAFETY: eight i32 are the 32 bytes of an __m256; the caller
+        // guarantees AVX.
+        unsafe { _mm256_movemask_ps(std::mem::transmute::<[i32; LANES], __m256>(self.0)) as u32 }
+    }
+
+    /// Bit `lane` set where the lane is: [`Mask::bits_avx`] in the AVX
+    /// copy (`AVX`), else the portable loop.
+    #[inline(always)]
+    fn bits_in<const AVX: bool>(self) -> u32 {
+        #[cfg(target_arch = "x86_64")]
+        if AVX {
+            // SAFETY: `AVX` is true only in the copies compiled with AVX,
+            // which run only where the CPU has it.
+            return unsafe { self.bits_avx() };
+        }
+        self.bits()
     }
 
     /// Bit `lane` set where the lane is.
@@ -316,7 +337,7 @@ impl FlatFaces {
             // SAFETY: the CPU has AVX.
             return unsafe { self.nearest_avx(ray, t_min, t_max) };
         }
-        self.nearest_lanes(ray, t_min, t_max)
+        self.nearest_lanes::<false>(ray, t_min, t_max)
     }
 
     /// Whether some face is crossed with `t` in `(t_min, t_max)`.
@@ -337,7 +358,7 @@ impl FlatFaces {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn nearest_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
-        self.nearest_lanes(ray, t_min, t_max)
+        self.nearest_lanes::<true>(ray, t_min, t_max)
     }
 
     /// [`FlatFaces::occluded_lanes`] compiled with AVX.
@@ -351,7 +372,12 @@ impl FlatFaces {
     }
 
     #[inline(always)]
-    fn nearest_lanes(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+    fn nearest_lanes<const AVX: bool>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(usize, Crossing)> {
         let r = RayLanes::new(ray);
         let t_min = Lanes::splat(t_min);
         let zero = Lanes::splat(0.0);
@@ -375,21 +401,25 @@ impl FlatFaces {
         // without a crossing keeps `t_max`, and every crossing is strictly
         // nearer, so the least distance is a crossing unless there is none.
         let near = best.t.least();
-        let mut lanes = best.t.eq(Lanes::splat(near)).bits();
-        // Lanes without a crossing keep `t_max` and slot `u32::MAX`. Testing
-        // `near < t_max` instead would say the same, but then the compiler
-        // takes the slots out of their vector and runs the passes a lane at a
-        // time: 747 M → 1 064 M instructions for a Cornell render.
-        lanes &= !best
-            .slot
-            .eq_bits(Lanes::splat(f32::from_bits(u32::MAX)))
-            .bits();
-        let lane = match lanes.count_ones() {
-            0 => None,
-            1 => Some(lanes.trailing_zeros() as usize),
-            _ => (0..LANES)
+        let mut lanes = best.t.eq(Lanes::splat(near)).bits_in::<AVX>();
+        // Lanes without a crossing keep `t_max` and slot `u32::MAX`, whose
+        // bits are a NaN: a slot equal to itself (a float comparison; a
+        // real slot's bits are a subnormal, which compares as itself) is a
+        // crossing. Testing `near < t_max` instead would say the same, but
+        // then the compiler takes the slots out of their vector and runs
+        // the passes a lane at a time: 747 M → 1 064 M instructions for a
+        // Cornell render. Comparing the slots' bits as integers split the
+        // comparison in halves (AVX has no 256-bit integer compare) and cost
+        // some twenty instructions more than this, with `bits_in` (session
+        // 15). One lane (the common case) is told by a power-of-two test,
+        // not `count_ones`, which is a dozen instructions without POPCNT.
+        lanes &= best.slot.eq(best.slot).bits_in::<AVX>();
+        let lane = if lanes & lanes.wrapping_sub(1) == 0 {
+            (lanes != 0).then(|| lanes.trailing_zeros() as usize)
+        } else {
+            (0..LANES)
                 .filter(|l| lanes & (1 << l) != 0)
-                .min_by_key(|&l| best.slot(l)),
+                .min_by_key(|&l| best.slot(l))
         };
         let l = lane?;
         Some((
@@ -591,7 +621,7 @@ mod tests {
                 let grazed = || prims.iter().any(|p| edge_distance(p, &ray) < GRAZE);
                 // The lanes as compiled for any CPU, and the copy this CPU runs.
                 for got in [
-                    flat.nearest_lanes(&ray, 0.0, f32::INFINITY),
+                    flat.nearest_lanes::<false>(&ray, 0.0, f32::INFINITY),
                     flat.nearest(&ray, 0.0, f32::INFINITY),
                 ] {
                     match (got, want) {
