@@ -114,6 +114,9 @@ impl Geometry {
     ) -> Option<Hit> {
         match self {
             Geometry::Primitives(p) => {
+                if let Some(flat) = p.flat() {
+                    return p.flat_hit(flat, ray, t_min, t_max);
+                }
                 let (h, m, light) = p.intersect(ray, t_min, t_max)?;
                 Some(facing(h, h.normal, ray.dir, m, light))
             }
