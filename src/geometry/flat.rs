@@ -137,21 +137,15 @@ impl Mask {
     }
 
     /// Bit `lane` set where the lane is: [`Mask::bits_avx`] in the AVX
-    /// copy (`AVX`), else the portable loop.
+    /// copy (`AVX`), else a loop over the lanes.
     #[inline(always)]
-    fn bits_in<const AVX: bool>(self) -> u32 {
+    fn bits<const AVX: bool>(self) -> u32 {
         #[cfg(target_arch = "x86_64")]
         if AVX {
             // SAFETY: `AVX` is true only in the copies compiled with AVX,
             // which run only where the CPU has it.
             return unsafe { self.bits_avx() };
         }
-        self.bits()
-    }
-
-    /// Bit `lane` set where the lane is.
-    #[inline(always)]
-    fn bits(self) -> u32 {
         let mut bits = 0;
         for l in 0..LANES {
             bits |= (self.0[l] as u32 & 1) << l;
@@ -401,7 +395,7 @@ impl FlatFaces {
         // without a crossing keeps `t_max`, and every crossing is strictly
         // nearer, so the least distance is a crossing unless there is none.
         let near = best.t.least();
-        let mut lanes = best.t.eq(Lanes::splat(near)).bits_in::<AVX>();
+        let mut lanes = best.t.eq(Lanes::splat(near)).bits::<AVX>();
         // Lanes without a crossing keep `t_max` and slot `u32::MAX`, whose
         // bits are a NaN: a slot equal to itself (a float comparison; a
         // real slot's bits are a subnormal, which compares as itself) is a
@@ -410,10 +404,10 @@ impl FlatFaces {
         // the passes a lane at a time: 747 M → 1 064 M instructions for a
         // Cornell render. Comparing the slots' bits as integers split the
         // comparison in halves (AVX has no 256-bit integer compare) and cost
-        // some twenty instructions more than this, with `bits_in` (session
+        // some twenty instructions more than this, with `bits` (session
         // 15). One lane (the common case) is told by a power-of-two test,
         // not `count_ones`, which is a dozen instructions without POPCNT.
-        lanes &= best.slot.eq(best.slot).bits_in::<AVX>();
+        lanes &= best.slot.eq(best.slot).bits::<AVX>();
         let lane = if lanes & lanes.wrapping_sub(1) == 0 {
             (lanes != 0).then(|| lanes.trailing_zeros() as usize)
         } else {

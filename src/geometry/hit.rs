@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3};
 use super::emitter::LightId;
 use super::ray::{offset_origin, SurfacePoint};
 use super::shapes::sphere::sphere_uv;
+use super::shapes::ShapeHit;
 use crate::scene::MaterialId;
 
 /// Where and how a ray hit a surface.
@@ -46,6 +47,29 @@ impl Hit {
             error: self.error,
             normal: self.geo_normal,
         }
+    }
+}
+
+/// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
+#[inline]
+pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId, light: LightId) -> Hit {
+    let front_face = h.normal.dot(dir) < 0.0;
+    let sign = if front_face { 1.0 } else { -1.0 };
+    let geo_normal = h.normal * sign;
+    let mut normal = shading * sign;
+    if normal.dot(geo_normal) < 0.0 {
+        normal = geo_normal;
+    }
+    Hit {
+        t: h.t,
+        point: h.point,
+        error: h.error,
+        geo_normal,
+        normal,
+        uv: h.uv,
+        front_face,
+        material,
+        light,
     }
 }
 

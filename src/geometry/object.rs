@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::emitter::LightId;
 use super::group::Group;
+use super::hit::facing;
 use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::primitives::{Primitive, PrimitiveSet};
@@ -34,29 +35,6 @@ pub enum Geometry {
     Medium(Medium),
     /// The inner geometry with every hit's `front_face` negated.
     Flipped(Arc<Geometry>),
-}
-
-/// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
-#[inline]
-pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId, light: LightId) -> Hit {
-    let front_face = h.normal.dot(dir) < 0.0;
-    let sign = if front_face { 1.0 } else { -1.0 };
-    let geo_normal = h.normal * sign;
-    let mut normal = shading * sign;
-    if normal.dot(geo_normal) < 0.0 {
-        normal = geo_normal;
-    }
-    Hit {
-        t: h.t,
-        point: h.point,
-        error: h.error,
-        geo_normal,
-        normal,
-        uv: h.uv,
-        front_face,
-        material,
-        light,
-    }
 }
 
 impl Geometry {
@@ -113,13 +91,7 @@ impl Geometry {
         media: &mut MediumSegments,
     ) -> Option<Hit> {
         match self {
-            Geometry::Primitives(p) => {
-                if let Some(flat) = p.flat() {
-                    return p.flat_hit(flat, ray, t_min, t_max);
-                }
-                let (h, m, light) = p.intersect(ray, t_min, t_max)?;
-                Some(facing(h, h.normal, ray.dir, m, light))
-            }
+            Geometry::Primitives(p) => p.intersect_facing(ray, t_min, t_max),
             Geometry::Single(p, m, light) => {
                 let h = p.intersect(ray, t_min, t_max)?;
                 Some(facing(h, h.normal, ray.dir, *m, *light))

@@ -6,8 +6,8 @@
 use super::bvh::Leaves;
 use super::emitter::LightId;
 use super::flat::FlatFaces;
+use super::hit::facing;
 use super::leaf::{slots, Packs, SphereLeaf};
-use super::object::facing;
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Hit, Ray};
 use crate::scene::MaterialId;
@@ -212,42 +212,62 @@ impl PrimitiveSet {
         t_max: f32,
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
         let (slot, c) = flat.nearest(ray, t_min, t_max)?;
-        Some(self.hit(slot, ray, &c))
+        let (material, light) = self.ids(slot);
+        Some((self.flat_surface(slot, ray, &c), material, light))
     }
 
-    /// The faces' passes, if the set is tested in them.
-    #[inline]
-    pub fn flat(&self) -> Option<&FlatFaces> {
-        self.flat.as_ref()
+    /// The nearest hit in `(t_min, t_max)` as the [`Hit`] facing the ray,
+    /// what the world asks a set for. A flat set builds it in
+    /// [`PrimitiveSet::flat_hit`]. Inlined where the world asks, so that a
+    /// flat set's hit is written once, into the caller's result.
+    #[inline(always)]
+    pub fn intersect_facing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        if let Some(flat) = &self.flat {
+            return self.flat_hit(flat, ray, t_min, t_max);
+        }
+        let (h, material, light) = self.intersect(ray, t_min, t_max)?;
+        Some(facing(h, h.normal, ray.dir, material, light))
     }
 
-    /// [`PrimitiveSet::intersect`] of a flat set as the [`Hit`] facing the
-    /// ray, built in the one function that writes the caller's result.
-    /// Returned through two layers (the set's hit, then the facing one),
-    /// the hit was copied field by field between stack slots: the Cornell
-    /// box took 2 % more instructions and 3 % more time (docs/performance.md,
-    /// session 15).
+    /// [`PrimitiveSet::intersect_facing`] of a flat set, built in the one
+    /// function that writes the caller's result. Returned through two
+    /// layers (the set's hit, then the facing one), the hit was copied field
+    /// by field between stack slots: the Cornell box took 2 % more
+    /// instructions and 3 % more time (docs/performance.md, session 15).
     #[inline(never)]
-    pub fn flat_hit(&self, flat: &FlatFaces, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    fn flat_hit(&self, flat: &FlatFaces, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let (slot, c) = flat.nearest(ray, t_min, t_max)?;
-        // The two shapes a flat set holds, their surfaces inlined rather
-        // than called through `Primitive::surface` (whose hit came back in
-        // memory): 0.7 % fewer instructions, faster in 27 of 32 rounds.
-        let h = match &self.prims[slot] {
-            Primitive::Rect(r) => r.surface(ray, &c),
-            Primitive::Quad(q) => q.surface(&c),
-            p => p.surface(ray, &c),
-        };
-        let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
-        Some(facing(h, h.normal, ray.dir, self.materials[slot], light))
+        let h = self.flat_surface(slot, ray, &c);
+        let (material, light) = self.ids(slot);
+        Some(facing(h, h.normal, ray.dir, material, light))
+    }
+
+    /// The surface at crossing `c` of a flat set's slot `slot`: the two
+    /// shapes such a set holds are built here, inlined, rather than called
+    /// through `Primitive::surface`, whose hit came back in memory (0.7 %
+    /// fewer instructions, faster in 27 of 32 rounds: docs/performance.md,
+    /// session 15).
+    #[inline(always)]
+    fn flat_surface(&self, slot: usize, ray: &Ray, c: &Crossing) -> ShapeHit {
+        match &self.prims[slot] {
+            Primitive::Rect(r) => r.surface(ray, c),
+            Primitive::Quad(q) => q.surface(c),
+            p => p.surface(ray, c),
+        }
     }
 
     /// The hit at crossing `c` of slot `slot` with its material and light id.
     #[inline(always)]
     fn hit(&self, slot: usize, ray: &Ray, c: &Crossing) -> (ShapeHit, MaterialId, LightId) {
-        let h = self.prims[slot].surface(ray, c);
+        let (material, light) = self.ids(slot);
+        (self.prims[slot].surface(ray, c), material, light)
+    }
+
+    /// Slot `slot`'s material and light id.
+    #[inline(always)]
+    fn ids(&self, slot: usize) -> (MaterialId, LightId) {
         let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
-        (h, self.materials[slot], light)
+        (self.materials[slot], light)
     }
 
     /// Whether any primitive is hit with `t` in `(t_min, t_max)`.

@@ -33,14 +33,12 @@ pub const SHADOW_END: f32 = 1.0 - 1e-4;
 
 /// u = 2⁻²⁴, half an ulp of 1: the relative error of one f32 rounding.
 const ULP_HALF: f32 = f32::EPSILON * 0.5;
-/// 16 u.
-const OFFSET_SLACK: f32 = 16.0 * ULP_HALF;
 
-/// Higham's γₙ = nu / (1 − nu), u = 2⁻²⁴: the relative error bound of `n`
-/// chained f32 roundings.
+/// Higham's γₙ = nu / (1 − nu): the relative error bound of `n` chained
+/// f32 roundings.
 #[inline]
 pub const fn gamma(n: u32) -> f32 {
-    let nu = n as f32 * (f32::EPSILON * 0.5);
+    let nu = n as f32 * ULP_HALF;
     nu / (1.0 - nu)
 }
 
@@ -71,7 +69,7 @@ pub fn offset_origin(p: Vec3, error: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     // An exact point (no error along `n`) stays, as in pbrt-v4: a ray from
     // it meets its own surface at t = 0, which no test takes.
     let d = if d > 0.0 {
-        d * (1.0 + OFFSET_SLACK) + 2.0 * ULP_HALF * na.dot(p.abs())
+        d * (1.0 + 16.0 * ULP_HALF) + 2.0 * ULP_HALF * na.dot(p.abs())
     } else {
         0.0
     };
