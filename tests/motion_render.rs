@@ -66,7 +66,15 @@ fn linear_motion_streak_is_centred_at_mid_shutter_with_the_travel_length() {
         "streak centre at column {c:.2}, expected {expected_centre:.2}"
     );
     let (first, last) = lit_columns(&sums);
-    let (lo, hi) = (100.0 + (-0.5 - 0.2) * k, 100.0 + (1.5 + 0.2) * k);
+    // A column is lit when its sum passes 2 % of the peak column's. At the
+    // streak's ends that is where the sphere's disc (radius 0.2) has swept
+    // 2 % of its area, 0.895 of a radius beyond its centre's first and last
+    // positions ((acos u − u√(1 − u²)) / π = 0.02 at u = 0.895). A column
+    // is judged by its mean, about its centre's value, so the first lit
+    // column (index i spans [i, i + 1)) starts near the left point and the
+    // last one ends near the right point.
+    let reach = 0.895 * 0.2;
+    let (lo, hi) = (100.0 + (-0.5 - reach) * k, 100.0 + (1.5 + reach) * k - 1.0);
     assert!(
         (first as f64 - lo).abs() <= 2.0 && (last as f64 - hi).abs() <= 2.0,
         "streak spans columns {first}..{last}, expected about {lo:.1}..{hi:.1}"

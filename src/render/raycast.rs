@@ -132,12 +132,17 @@ mod tests {
         let scene = cornell_box(8, 1);
         let world = World::build(&scene).expect("builds");
         let mut options = RenderOptions::from_settings(&scene.settings);
-        options.spp = 2;
+        options.spp = 16;
         let cam = camera_rays(&scene, &world, &options);
-        assert_eq!(cam.rays, u64::from(options.width * options.height * 2));
+        assert_eq!(cam.rays, u64::from(options.width * options.height * 16));
         // The camera looks into the open side of the box; only the frame's
-        // corners (outside the 555-unit box at 40 degrees from 800 away) miss.
-        assert!(cam.hit_fraction() > 0.9 && cam.hits < cam.rays, "{cam:?}");
+        // corners (outside the 555-unit box at 40 degrees from 800 away) miss:
+        // 9.2 % of the frame (0.908 of 16 384 rays hit at 256 spp). At 2 spp
+        // the fraction was too noisy for a bound this close.
+        assert!(
+            (0.88..0.94).contains(&cam.hit_fraction()) && cam.hits < cam.rays,
+            "{cam:?}"
+        );
         let random = random_rays(&world, world.bounds(), 1000, 1).expect("bounded");
         assert_eq!(random.rays, 1000);
         // A ray aimed at a point inside the box crosses a wall, or enters by
