@@ -272,33 +272,29 @@ fn a_grey_sphere_around_a_lamp_glows_as_its_radiosity_equation_says() {
     // 0.6 at each bounce: a fifth of them outlive three bounces, where
     // Russian roulette ends some and reweights the rest. The lamp is light
     // sampled, so the test covers MIS on a sphere light too.
-    let scene = || {
-        let mut s = Scene::default();
-        let grey = s.add_texture(Texture::Solid(Vec3::splat(0.8)));
-        let wall = s.add_material(Material::Lambertian { albedo: grey });
-        let one = s.add_texture(Texture::Solid(Vec3::ONE));
-        let lamp = s.add_material(Material::Light {
-            emit: one,
-            two_sided: false,
-        });
-        let ball = |radius: f32, material| Node::Shape {
-            shape: Shape::Sphere {
-                center: Vec3::ZERO,
-                radius,
-            },
-            material,
-        };
-        s.objects = vec![ball(1.0, wall), ball(0.5, lamp)];
-        s.camera = Camera {
-            from: Vec3::new(0.0, 0.0, 0.75),
-            at: Vec3::new(0.0, 0.0, 2.0),
-            vfov: 20.0,
-            ..Camera::default()
-        };
-        small(&mut s, 16, 16, 64);
-        s
+    let mut s = Scene::default();
+    let grey = s.add_texture(Texture::Solid(Vec3::splat(0.8)));
+    let wall = s.add_material(Material::Lambertian { albedo: grey });
+    let one = s.add_texture(Texture::Solid(Vec3::ONE));
+    let lamp = s.add_material(Material::Light {
+        emit: one,
+        two_sided: false,
+    });
+    let ball = |radius: f32, material| Node::Shape {
+        shape: Shape::Sphere {
+            center: Vec3::ZERO,
+            radius,
+        },
+        material,
     };
-    let s = scene();
+    s.objects = vec![ball(1.0, wall), ball(0.5, lamp)];
+    s.camera = Camera {
+        from: Vec3::new(0.0, 0.0, 0.75),
+        at: Vec3::new(0.0, 0.0, 2.0),
+        vfov: 20.0,
+        ..Camera::default()
+    };
+    small(&mut s, 16, 16, 64);
     let world = World::build(&s).expect("scene builds");
     for light_sampling in [true, false] {
         let options = RenderOptions {

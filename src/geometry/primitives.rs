@@ -149,17 +149,17 @@ impl PrimitiveSet {
         self.bvh.bounds()
     }
 
-    /// The nearest hit in `(t_min, t_max)` with its material and light id.
+    /// The nearest hit in `(t_min, t_max)` with its material and light id,
+    /// by the walk of the tree (built for flat sets too, so right for any
+    /// set). The world asks [`PrimitiveSet::intersect_facing`], which takes a
+    /// flat set's eight-lane passes instead.
     #[inline]
-    pub fn intersect(
+    pub(super) fn intersect(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
     ) -> Option<(ShapeHit, MaterialId, LightId)> {
-        if let Some(flat) = &self.flat {
-            return self.intersect_flat(flat, ray, t_min, t_max);
-        }
         let mut best = None;
         // The leaf visit is inlined into the walk rather than called once per
         // leaf: with the eight-wide walk, renders of the Cornell box and the
@@ -200,22 +200,6 @@ impl PrimitiveSet {
         Some(self.hit(slot, ray, &c))
     }
 
-    /// [`PrimitiveSet::intersect`] by the flat faces' passes. Kept out of
-    /// line: inlined, it made the walk's own code too large to inline its
-    /// tests, and the random spheres took 3 % more instructions.
-    #[inline(never)]
-    fn intersect_flat(
-        &self,
-        flat: &FlatFaces,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-    ) -> Option<(ShapeHit, MaterialId, LightId)> {
-        let (slot, c) = flat.nearest(ray, t_min, t_max)?;
-        let (material, light) = self.ids(slot);
-        Some((self.flat_surface(slot, ray, &c), material, light))
-    }
-
     /// The nearest hit in `(t_min, t_max)` as the [`Hit`] facing the ray,
     /// what the world asks a set for. A flat set builds it in
     /// [`PrimitiveSet::flat_hit`]. Inlined where the world asks, so that a
@@ -230,7 +214,9 @@ impl PrimitiveSet {
     }
 
     /// [`PrimitiveSet::intersect_facing`] of a flat set, built in the one
-    /// function that writes the caller's result. Returned through two
+    /// function that writes the caller's result. Kept out of line: inlined,
+    /// it made the walk's own code too large to inline its tests, and the
+    /// random spheres took 3 % more instructions (session 14). Returned through two
     /// layers (the set's hit, then the facing one), the hit was copied field
     /// by field between stack slots: the Cornell box took 2 % more
     /// instructions and 3 % more time (docs/performance.md, session 15).

@@ -210,13 +210,15 @@ impl<'a> Tracer<'a> {
                 }
             };
             throughput *= attenuation;
-            let survive = survival(throughput, in_medium);
-            if depth >= ROULETTE_AFTER && survive < 1.0 {
-                sampler.begin(Dim::Roulette);
-                if sampler.next_1d() >= survive {
-                    return (radiance, rays);
+            if depth >= ROULETTE_AFTER {
+                let survive = survival(throughput, in_medium);
+                if survive < 1.0 {
+                    sampler.begin(Dim::Roulette);
+                    if sampler.next_1d() >= survive {
+                        return (radiance, rays);
+                    }
+                    throughput /= survive;
                 }
-                throughput /= survive;
             }
             ray = Ray::new(hit.spawn_origin(dir), dir, ray.time);
         }
