@@ -23,7 +23,7 @@ use crate::geometry::emitter::LightId;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
-use crate::sampling::{Dim, Sampler, SamplerKind};
+use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
@@ -126,14 +126,13 @@ impl<'a> Tracer<'a> {
     pub fn sample(
         &self,
         camera: &CameraRays,
-        kind: SamplerKind,
-        seed: u64,
+        sampler: &mut Sampler,
         (x, y): (u32, u32),
         index: u32,
     ) -> (Vec3, u32) {
-        let mut sampler = Sampler::for_sample(kind, seed, x, y, index);
-        let ray = camera.ray(x, y, &mut sampler);
-        self.radiance(ray, &mut sampler)
+        sampler.start(x, y, index);
+        let ray = camera.ray(x, y, sampler);
+        self.radiance(ray, sampler)
     }
 
     /// The radiance arriving along `ray` (unit direction) and the number of

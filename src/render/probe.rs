@@ -60,8 +60,9 @@ pub fn estimate(
     let tracer = Tracer::for_options(scene, world, &lights, options);
     let first = options.first_sample().unwrap_or(0);
     let (mut sum, mut sq, mut kept) = (Vec3::ZERO, glam::DVec3::ZERO, 0u32);
+    let mut sampler = Sampler::new(options.sampler, options.seed);
     for s in 0..samples {
-        let (l, _) = tracer.sample(&camera, options.sampler, options.seed, (x, y), first + s);
+        let (l, _) = tracer.sample(&camera, &mut sampler, (x, y), first + s);
         if l.is_finite() {
             sum += l;
             sq += l.as_dvec3() * l.as_dvec3();

@@ -19,7 +19,7 @@ use super::integrator::Tracer;
 use super::lights::LightList;
 use super::options::{Crop, OptionsError, RenderOptions};
 use crate::geometry::World;
-use crate::sampling::SamplerKind;
+use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 
 /// Tile edge in pixels.
@@ -309,6 +309,7 @@ impl Job<'_> {
             spp_min: u32::MAX,
             spp_max: 0,
         };
+        let mut sampler = Sampler::new(self.sampler, self.seed);
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {
                 let i = film.index(x, y);
@@ -323,13 +324,9 @@ impl Job<'_> {
                         }
                     }
                     traced += 1;
-                    let (mut l, rays) = self.tracer.sample(
-                        self.camera,
-                        self.sampler,
-                        self.seed,
-                        (x, y),
-                        self.first + s,
-                    );
+                    let (mut l, rays) =
+                        self.tracer
+                            .sample(self.camera, &mut sampler, (x, y), self.first + s);
                     if let Some(c) = self.clamp {
                         l = clamp_radiance(l, c);
                     }

@@ -66,10 +66,21 @@ const BOUNCE_SLOTS: u32 = 6;
 /// First slot of the extra medium stretches (2^16 per bounce).
 const EXTRA_SLOTS: u32 = 1 << 31;
 
-/// The numbers of one sample (one pixel, one sample index).
+/// Slots whose draws a reusable sampler keeps eight samples at a time: the
+/// camera's and those of the first ten bounces. Deeper slots, which few
+/// samples reach, are drawn one at a time.
+const CACHED_SLOTS: usize = (CAMERA_SLOTS + 10 * BOUNCE_SLOTS) as usize;
+
+/// The numbers of one sample (one pixel, one sample index). A sampler made
+/// by [`Sampler::new`] moves from sample to sample with [`Sampler::start`]
+/// and keeps, for each of its first slots, the Sobol' draws of the eight
+/// samples (an aligned block of indices) the current one belongs to: they
+/// are computed together in vector lanes ([`sobol::points8`]) when the
+/// first of them asks, and are the same numbers one at a time would be.
 #[derive(Clone, Debug)]
 pub struct Sampler {
     kind: SamplerKind,
+    seed: u64,
     /// The independent stream: every draw of the independent sampler
     /// (unseeded for the Sobol' sampler, which never draws from it).
     rng: Rng,
@@ -81,6 +92,41 @@ pub struct Sampler {
     slot: u32,
     /// The draw [`Sampler::draw_ahead`] made, with its slot.
     ahead: Held,
+    /// The block of eight indices the sample is in, and its place in it.
+    block: u32,
+    lane: usize,
+    /// The draws kept per slot (none for a one-off sampler or the
+    /// independent one).
+    blocks: Vec<Block>,
+}
+
+/// One slot's draws for eight samples of a pixel: those of block `block`
+/// of the pixel hashed to `pixel`, the only inputs besides the slot.
+#[derive(Clone, Debug)]
+struct Block {
+    pixel: u64,
+    block: u32,
+    draws: [[f32; sobol::LANES]; 2],
+}
+
+impl Block {
+    /// Makes this the block `block` of slot `slot` in the pixel `pixel`.
+    #[cold]
+    #[inline(never)]
+    fn fill(&mut self, pixel: u64, block: u32, slot: u32) {
+        *self = Block {
+            pixel,
+            block,
+            draws: sobol::points8(block * sobol::LANES as u32, slot_seeds(pixel, slot)),
+        };
+    }
+
+    /// No block: block numbers are below 2^29.
+    const NONE: Block = Block {
+        pixel: 0,
+        block: u32::MAX,
+        draws: [[0.0; sobol::LANES]; 2],
+    };
 }
 
 /// A 2-D draw made ahead of its use, and its slot (`u64::MAX`, no slot,
@@ -99,21 +145,65 @@ impl Held {
 }
 
 impl Sampler {
-    /// The numbers of sample `index` of pixel `(x, y)` under `seed`.
+    /// A sampler for the samples of a render under `seed`, which keeps
+    /// draws for the samples that follow; [`Sampler::start`] picks the
+    /// sample. A pixel's samples in index order reuse each block of draws
+    /// eight times.
+    pub fn new(kind: SamplerKind, seed: u64) -> Sampler {
+        let mut sampler = Sampler::for_sample(kind, seed, 0, 0, 0);
+        if kind == SamplerKind::Sobol {
+            sampler.blocks = vec![Block::NONE; CACHED_SLOTS];
+        }
+        sampler
+    }
+
+    /// The numbers of sample `index` of pixel `(x, y)` under `seed`, drawn
+    /// one at a time (a sampler for one sample).
     pub fn for_sample(kind: SamplerKind, seed: u64, x: u32, y: u32, index: u32) -> Sampler {
-        let pixel = ((y as u64) << 32) | x as u64;
-        Sampler {
+        let mut sampler = Sampler {
             kind,
-            rng: match kind {
-                SamplerKind::Independent => Rng::for_sample(seed, x, y, index),
-                SamplerKind::Sobol => Rng::UNUSED,
-            },
-            pixel: mix(seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d)),
-            reversed_index: index.reverse_bits(),
+            seed,
+            rng: Rng::UNUSED,
+            pixel: 0,
+            reversed_index: 0,
             bounce: 0,
             slot: 0,
             ahead: Held::NONE,
+            block: 0,
+            lane: 0,
+            blocks: Vec::new(),
+        };
+        sampler.start(x, y, index);
+        sampler
+    }
+
+    /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
+    pub fn start(&mut self, x: u32, y: u32, index: u32) {
+        let pixel = ((y as u64) << 32) | x as u64;
+        if self.kind == SamplerKind::Independent {
+            self.rng = Rng::for_sample(self.seed, x, y, index);
         }
+        self.pixel = mix(self.seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d));
+        self.reversed_index = index.reverse_bits();
+        self.block = index / sobol::LANES as u32;
+        self.lane = index as usize % sobol::LANES;
+        self.bounce = 0;
+        self.slot = 0;
+        self.ahead = Held::NONE;
+    }
+
+    /// The Sobol' 2-D draw of `slot` from its kept block (computing the
+    /// block first if it is another sample's), or `None` for a slot whose
+    /// draws are not kept.
+    #[inline]
+    fn kept(&mut self, slot: u32) -> Option<Vec2> {
+        let (pixel, block) = (self.pixel, self.block);
+        let kept = self.blocks.get_mut(slot as usize)?;
+        if kept.pixel != pixel || kept.block != block {
+            kept.fill(pixel, block, slot);
+        }
+        let lane = self.lane % sobol::LANES;
+        Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
@@ -158,53 +248,41 @@ impl Sampler {
             return;
         }
         let slot = self.slot_of(dim);
+        if (slot as usize) < self.blocks.len() {
+            return;
+        }
         self.ahead = Held {
             slot: u64::from(slot),
             value: self.sobol_2d(slot),
         };
     }
 
-    /// The held draw of the current slot, if [`Sampler::draw_ahead`] made it.
+    /// The held draw of `slot`, if [`Sampler::draw_ahead`] made it.
     #[inline]
-    fn held(&self) -> Option<Vec2> {
-        (self.ahead.slot == u64::from(self.slot)).then_some(self.ahead.value)
+    fn held(&self, slot: u32) -> Option<Vec2> {
+        (self.ahead.slot == u64::from(slot)).then_some(self.ahead.value)
     }
 
-    /// The Sobol' 2-D draw of `slot`.
+    /// The Sobol' 2-D draw of `slot`, computed alone.
     #[inline]
     fn sobol_2d(&self, slot: u32) -> Vec2 {
-        let h = self.seeds_of(slot);
-        let third = mix(h) as u32;
-        let seeds = [h as u32, (h >> 32) as u32, third];
+        let seeds = slot_seeds(self.pixel, slot);
         let (a, b) = sobol::point2_reversed(self.reversed_index, seeds);
         Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
     }
 
-    /// Seeds of `slot`.
-    #[inline]
-    fn seeds_of(&self, slot: u32) -> u64 {
-        mix(self.pixel ^ u64::from(slot).wrapping_mul(0x9e37_79b9_7f4a_7c15))
-    }
-
-    /// Seeds of the current slot, and moves on to the next.
-    #[inline]
-    fn slot_seeds(&mut self) -> u64 {
-        let h = self.seeds_of(self.slot);
-        self.slot = self.slot.wrapping_add(1);
-        h
-    }
-
     /// One number in [0, 1).
-    #[inline]
+    #[inline(always)]
     pub fn next_1d(&mut self) -> f32 {
         match self.kind {
             SamplerKind::Independent => self.rng.next_f32(),
             SamplerKind::Sobol => {
-                if let Some(held) = self.held() {
-                    self.slot = self.slot.wrapping_add(1);
-                    return held.x;
+                let slot = self.slot;
+                self.slot = slot.wrapping_add(1);
+                if let Some(v) = self.held(slot).or_else(|| self.kept(slot)) {
+                    return v.x;
                 }
-                let h = self.slot_seeds();
+                let h = slot_hash(self.pixel, slot);
                 sobol::to_unit(sobol::point1_reversed(
                     self.reversed_index,
                     [h as u32, (h >> 32) as u32],
@@ -235,7 +313,7 @@ impl Sampler {
     }
 
     /// Two numbers in [0, 1).
-    #[inline]
+    #[inline(always)]
     pub fn next_2d(&mut self) -> Vec2 {
         match self.kind {
             SamplerKind::Independent => {
@@ -243,15 +321,30 @@ impl Sampler {
                 Vec2::new(x, self.rng.next_f32())
             }
             SamplerKind::Sobol => {
-                let v = match self.held() {
-                    Some(held) => held,
-                    None => self.sobol_2d(self.slot),
+                let slot = self.slot;
+                let v = match self.held(slot).or_else(|| self.kept(slot)) {
+                    Some(v) => v,
+                    None => self.sobol_2d(slot),
                 };
-                self.slot = self.slot.wrapping_add(1);
+                self.slot = slot.wrapping_add(1);
                 v
             }
         }
     }
+}
+
+/// The hash of `slot` in the pixel hashed to `pixel`: its first two scramble
+/// seeds (index shuffle, first coordinate).
+#[inline]
+fn slot_hash(pixel: u64, slot: u32) -> u64 {
+    mix(pixel ^ u64::from(slot).wrapping_mul(0x9e37_79b9_7f4a_7c15))
+}
+
+/// The three scramble seeds of `slot` in the pixel hashed to `pixel`.
+#[inline]
+fn slot_seeds(pixel: u64, slot: u32) -> [u32; 3] {
+    let h = slot_hash(pixel, slot);
+    [h as u32, (h >> 32) as u32, mix(h) as u32]
 }
 
 #[cfg(test)]
@@ -440,5 +533,61 @@ mod tests {
         }
         let r = sxy / n;
         assert!(r.abs() < 3.0 / n.sqrt(), "correlation {r}");
+    }
+
+    /// Every draw of a sample: the camera's slots and those of `bounces`
+    /// bounces, 1-D and 2-D alike, through every slot kind.
+    fn all_draws(s: &mut Sampler, bounces: u32) -> Vec<f32> {
+        let mut out = Vec::new();
+        s.begin(Dim::Camera);
+        out.extend(s.next_2d().to_array());
+        out.push(s.next_1d());
+        for b in 0..bounces {
+            s.start_bounce(b);
+            s.draw_ahead(Dim::Bsdf);
+            s.begin(Dim::Light);
+            out.push(s.next_1d());
+            out.extend(s.next_2d().to_array());
+            s.begin(Dim::Bsdf);
+            out.extend(s.next_2d().to_array());
+            out.push(s.next_1d());
+            for dim in [Dim::Roulette, Dim::Medium(0), Dim::Medium(3)] {
+                s.begin(dim);
+                out.push(s.next_1d());
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_reused_sampler_draws_what_one_off_samplers_draw() {
+        // Pixels revisited, a block of eight left for the same block of
+        // another pixel, blocks entered in the middle and left early, indices
+        // far apart, and paths deeper than the kept slots.
+        let visits = [
+            (3, 4, 0..3),
+            (3, 4, 3..13),
+            (9, 4, 12..14),
+            (9, 4, 5..6),
+            (3, 4, 13..40),
+            (0, 0, 1000..1009),
+            (3, 4, 40..41),
+            (7, 7, u32::MAX - 9..u32::MAX),
+        ];
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent] {
+            let mut reused = Sampler::new(kind, 17);
+            for (x, y, indices) in visits.clone() {
+                for i in indices {
+                    let bounces = 1 + i % 14;
+                    reused.start(x, y, i);
+                    let mut alone = Sampler::for_sample(kind, 17, x, y, i);
+                    assert_eq!(
+                        all_draws(&mut reused, bounces),
+                        all_draws(&mut alone, bounces),
+                        "{kind:?} pixel ({x}, {y}) sample {i}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -22,12 +22,18 @@ pub fn sin_cos_turn(u: f32) -> (f32, f32) {
             + x2 * (-1.0 / 6.0
                 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
     let cos = 1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0))));
-    match quarters & 3 {
-        0 => (sin, cos),
-        1 => (cos, -sin),
-        2 => (-sin, -cos),
-        _ => (-cos, sin),
-    }
+    // Rotate by the quarter turns, (sin, cos) → (cos, −sin) → (−sin, −cos) →
+    // (−cos, sin), by bit operations: the quarter is as random as the
+    // sample, and a branch on it would go astray three times in four.
+    let q = quarters as u32;
+    let swap = 0u32.wrapping_sub(q & 1);
+    let (sin, cos) = (sin.to_bits(), cos.to_bits());
+    let first = (cos & swap) | (sin & !swap);
+    let second = (sin & swap) | (cos & !swap);
+    (
+        f32::from_bits(first ^ ((q & 2) << 30)),
+        f32::from_bits(second ^ ((q.wrapping_add(1) & 2) << 30)),
+    )
 }
 
 /// Uniform on the unit sphere.
