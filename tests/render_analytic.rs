@@ -269,7 +269,7 @@ fn a_grey_sphere_around_a_lamp_glows_as_its_radiosity_equation_says() {
     // F = (r/R)² of its cosine-weighted hemisphere and the wall over the
     // rest, so L = a (F + (1 − F) L), L = a F / (1 − a (1 − F)). With a = 0.8
     // and F = 1/4, L = 0.5 and a path meets the wall again with probability
-    // 0.6 at each bounce: a fifth of them outlive three bounces, where
+    // 0.6 at each bounce: a third of them outlive two bounces, where
     // Russian roulette ends some and reweights the rest. The lamp is light
     // sampled, so the test covers MIS on a sphere light too.
     let mut s = Scene::default();

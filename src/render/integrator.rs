@@ -27,18 +27,21 @@ use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
-const ROULETTE_AFTER: u32 = 3;
+const ROULETTE_AFTER: u32 = 2;
 
 /// The throughput Russian roulette steers paths to after a surface
 /// scattering: a path whose largest throughput component `m` is below it
 /// survives with probability `m / ROULETTE_WEIGHT` and then carries about
 /// this weight; a path above it always goes on. With 1 (pbrt's and
 /// Mitsuba's rule, here from 4 bounces with survival at most 0.95) paths
-/// ended too early in dim interiors: this rule from 3 bounces gives the
-/// Cornell box 0.90× the error per instruction (relMSE 0.00183 against
-/// 0.00194 at 128², 64 spp, for 4 % fewer instructions) and the random
-/// spheres 0.95× (docs/performance.md, session 16).
-const ROULETTE_WEIGHT: f32 = 0.5;
+/// ended too early in dim interiors. Measured on the Cornell box at 128²,
+/// 64 spp (docs/performance.md, sessions 16 and 17): 1/2 from 3 bounces gave
+/// 0.90× the old rule's error per instruction, 1/3 from 2 bounces 0.87×
+/// (relMSE 0.00194, 0.00183, 0.00171) for 2 % more rays per sample than 1/2,
+/// and 0.94× its error × time against Mitsuba in one run; the random
+/// spheres, the vase, the lamps and the book-2 scene keep their error and
+/// rays per sample within noise, the smoky box traces 6 % fewer rays.
+const ROULETTE_WEIGHT: f32 = 1.0 / 3.0;
 
 /// The probability that a path with `throughput` goes on after a bounce
 /// past [`ROULETTE_AFTER`] (1 or more: it always does). After a medium
