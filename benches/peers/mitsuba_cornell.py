@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The Cornell box of scenes/cornell.rt: rtlang (light sampling, the default
 integrator) against Mitsuba 3 (`llvm_ad_rgb`, `path`: next-event estimation
-with MIS), same size, spp, depth 50 and Russian roulette from the fifth
-bounce, alternating in one run on every core. Prints samples/s of each round,
+with MIS), same size, spp and depth 50, each with its own Russian roulette
+(Mitsuba's from the fifth bounce unless --mitsuba-rr-depth says otherwise),
+alternating in one run on every core. Prints samples/s of each round,
 the medians and their ratio, then relMSE of each renderer's 64-spp images
 (the mean over the rounds, each round its own seed) against its own
 high-spp reference and error × time.
@@ -34,9 +35,10 @@ def rect(to_world, bsdf):
     return {"type": "rectangle", "to_world": to_world, "bsdf": bsdf}
 
 
-def cornell(size, spp):
+def cornell(size, spp, rr_depth=5):
     """scenes/cornell.rt in Mitsuba's words. Rectangles span [-1, 1]² in xy
-    with normal +z; cubes span [-1, 1]³; transforms apply right to left."""
+    with normal +z; cubes span [-1, 1]³; transforms apply right to left.
+    Roulette from bounce `rr_depth` (Mitsuba's default 5)."""
     diffuse = lambda rgb: {"type": "twosided",
                            "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": rgb}}}
     red, white, green = diffuse([0.65, 0.05, 0.05]), diffuse([0.73] * 3), diffuse([0.12, 0.45, 0.15])
@@ -47,7 +49,7 @@ def cornell(size, spp):
                                     @ T().translate([s / 2 for s in size_]) @ T().scale([s / 2 for s in size_]))
     return {
         "type": "scene",
-        "integrator": {"type": "path", "max_depth": 50, "rr_depth": 5},
+        "integrator": {"type": "path", "max_depth": 50, "rr_depth": rr_depth},
         "sensor": {
             "type": "perspective",
             "fov_axis": "y",
@@ -117,14 +119,17 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--out", default="/tmp/rtlang-peers", help="images and cached references")
+    ap.add_argument("--mitsuba-rr-depth", type=int, default=5,
+                    help="Mitsuba's first roulette bounce in the timed renders (its references keep 5)")
     args = ap.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    scene = mi.load_dict(cornell(args.size, args.spp))
+    scene = mi.load_dict(cornell(args.size, args.spp, args.mitsuba_rr_depth))
     mitsuba_render(scene, args.spp, 0)  # compiles the kernel
     samples = args.size * args.size * args.spp
-    print(f"Cornell box {args.size}², {args.spp} spp, depth 50, light sampling; M samples/s")
+    print(f"Cornell box {args.size}², {args.spp} spp, depth 50, light sampling, Mitsuba's roulette from"
+          f" bounce {args.mitsuba_rr_depth}; M samples/s")
     print("| round | rtlang | Mitsuba llvm_ad_rgb |")
     rates, images = [], {"rtlang": [], "mitsuba": []}
     for k in range(args.rounds):

@@ -14,9 +14,11 @@
 //! first 2^m samples of a pixel are a (0,m,2)-net in every 2-D slot.
 //!
 //! `begin` positions the handle at a slot of the current bounce; draws after
-//! it take the following slots in order. `draw_ahead` computes a slot's
-//! draw before it is asked for (the same numbers, earlier). The independent
-//! sampler ignores slots and draws its stream in call order.
+//! it take the following slots in order. A sampler reused from sample to
+//! sample (`new`, then `start`) computes the first slots' Sobol' draws for
+//! eight consecutive samples at once and keeps them; `draw_ahead` computes
+//! another slot's draw before it is asked for (the same numbers, earlier).
+//! The independent sampler ignores slots and draws its stream in call order.
 
 use glam::Vec2;
 

@@ -191,6 +191,10 @@ fn points8_lanes(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
 }
 
 /// [`points8_lanes`] compiled for AVX2 (eight 32-bit lanes).
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn points8_avx2(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
     points8_lanes(first, seeds)
@@ -198,6 +202,7 @@ unsafe fn points8_avx2(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
 
 /// [`points8_lanes`] for the CPU at hand.
 pub fn points8(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
+    #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2.
         return unsafe { points8_avx2(first, seeds) };
