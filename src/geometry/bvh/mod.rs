@@ -81,12 +81,25 @@ fn unpack_key(key: u64) -> (usize, f32) {
     (7 - (key & 7) as usize, f32::from_bits((key >> 32) as u32))
 }
 
-/// The keys of the children hit (the set bits of `mask`) in ascending
-/// order, nearest first, and how many there are: insertion of each key into
-/// the sorted run before it (most nodes have two or three children hit).
+/// The keys of the children hit (the set bits of `mask`, at least two) in
+/// ascending order, nearest first, and how many there are. Two (the most
+/// common case) take one branch-free compare-exchange; more, insertion of
+/// each key into the sorted run before it, whose branches follow the
+/// distances (two children through the insertion sort: bunny random rays
+/// 6 % slower).
 #[inline(always)]
 fn ordered_hits(dist: [f32; WIDTH], mut mask: u32) -> ([u64; WIDTH], usize) {
+    debug_assert!(mask.count_ones() >= 2);
     let mut keys = [0u64; WIDTH];
+    let first = mask.trailing_zeros() as usize;
+    let rest = mask & mask.wrapping_sub(1);
+    if rest & rest.wrapping_sub(1) == 0 {
+        let second = rest.trailing_zeros() as usize;
+        let (a, b) = (lane_key(dist[first], first), lane_key(dist[second], second));
+        keys[0] = a.min(b);
+        keys[1] = a.max(b);
+        return (keys, 2);
+    }
     let mut n = 0;
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
