@@ -423,6 +423,24 @@ mod tests {
     use glam::Vec3;
 
     #[test]
+    fn children_hit_come_nearest_first_whatever_their_number() {
+        let mut r = numbers(3);
+        for mask in (0u32..256).filter(|m| m.count_ones() >= 2) {
+            for _ in 0..20 {
+                // Distances with ties, so that the lane order is tested too.
+                let dist: [f32; WIDTH] = std::array::from_fn(|_| (r() * 4.0).floor());
+                let mut want: Vec<u64> = (0..WIDTH)
+                    .filter(|&l| mask >> l & 1 != 0)
+                    .map(|l| lane_key(dist[l], l))
+                    .collect();
+                want.sort_unstable();
+                let (keys, n) = ordered_hits(dist, mask);
+                assert_eq!(&keys[..n], &want[..], "mask {mask:#b}, {dist:?}");
+            }
+        }
+    }
+
+    #[test]
     fn nodes_are_four_cache_lines() {
         assert_eq!(std::mem::size_of::<BvhNode>(), 256);
     }
