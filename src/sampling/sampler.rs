@@ -88,15 +88,13 @@ pub struct Sampler {
     rng: Rng,
     /// Hash of (seed, pixel): the root of every slot's scramble seeds.
     pixel: u64,
-    /// The sample index with its bits reversed (as the scrambles read it).
-    reversed_index: u32,
+    /// The sample index: its block of eight is `index / 8`, and the
+    /// scrambles of a draw made alone read its bits reversed.
+    index: u32,
     bounce: u32,
     slot: u32,
     /// The draw [`Sampler::draw_ahead`] made, with its slot.
     ahead: Held,
-    /// The block of eight indices the sample is in, and its place in it.
-    block: u32,
-    lane: usize,
     /// The draws kept per slot (none for a one-off sampler or the
     /// independent one).
     blocks: Vec<Block>,
@@ -152,31 +150,35 @@ impl Sampler {
     /// sample. A pixel's samples in index order reuse each block of draws
     /// eight times.
     pub fn new(kind: SamplerKind, seed: u64) -> Sampler {
-        let mut sampler = Sampler::for_sample(kind, seed, 0, 0, 0);
-        if kind == SamplerKind::Sobol {
-            sampler.blocks = vec![Block::NONE; CACHED_SLOTS];
-        }
-        sampler
+        let kept = match kind {
+            SamplerKind::Sobol => CACHED_SLOTS,
+            SamplerKind::Independent => 0,
+        };
+        Sampler::keeping(kind, seed, kept)
     }
 
     /// The numbers of sample `index` of pixel `(x, y)` under `seed`, drawn
     /// one at a time (a sampler for one sample).
     pub fn for_sample(kind: SamplerKind, seed: u64, x: u32, y: u32, index: u32) -> Sampler {
-        let mut sampler = Sampler {
+        let mut sampler = Sampler::keeping(kind, seed, 0);
+        sampler.start(x, y, index);
+        sampler
+    }
+
+    /// A sampler that keeps the draws of its first `slots` slots, before
+    /// [`Sampler::start`].
+    fn keeping(kind: SamplerKind, seed: u64, slots: usize) -> Sampler {
+        Sampler {
             kind,
             seed,
             rng: Rng::UNUSED,
             pixel: 0,
-            reversed_index: 0,
+            index: 0,
             bounce: 0,
             slot: 0,
             ahead: Held::NONE,
-            block: 0,
-            lane: 0,
-            blocks: Vec::new(),
-        };
-        sampler.start(x, y, index);
-        sampler
+            blocks: vec![Block::NONE; slots],
+        }
     }
 
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
@@ -186,9 +188,7 @@ impl Sampler {
             self.rng = Rng::for_sample(self.seed, x, y, index);
         }
         self.pixel = mix(self.seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d));
-        self.reversed_index = index.reverse_bits();
-        self.block = index / sobol::LANES as u32;
-        self.lane = index as usize % sobol::LANES;
+        self.index = index;
         self.bounce = 0;
         self.slot = 0;
         self.ahead = Held::NONE;
@@ -199,12 +199,12 @@ impl Sampler {
     /// draws are not kept.
     #[inline]
     fn kept(&mut self, slot: u32) -> Option<Vec2> {
-        let (pixel, block) = (self.pixel, self.block);
+        let (pixel, block) = (self.pixel, self.index / sobol::LANES as u32);
         let kept = self.blocks.get_mut(slot as usize)?;
         if kept.pixel != pixel || kept.block != block {
             kept.fill(pixel, block, slot);
         }
-        let lane = self.lane % sobol::LANES;
+        let lane = self.index as usize % sobol::LANES;
         Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 
@@ -269,7 +269,7 @@ impl Sampler {
     #[inline]
     fn sobol_2d(&self, slot: u32) -> Vec2 {
         let seeds = slot_seeds(self.pixel, slot);
-        let (a, b) = sobol::point2_reversed(self.reversed_index, seeds);
+        let (a, b) = sobol::point2(self.index, seeds);
         Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
     }
 
@@ -285,10 +285,7 @@ impl Sampler {
                     return v.x;
                 }
                 let h = slot_hash(self.pixel, slot);
-                sobol::to_unit(sobol::point1_reversed(
-                    self.reversed_index,
-                    [h as u32, (h >> 32) as u32],
-                ))
+                sobol::to_unit(sobol::point1(self.index, [h as u32, (h >> 32) as u32]))
             }
         }
     }

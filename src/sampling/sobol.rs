@@ -120,19 +120,12 @@ pub fn to_unit(x: u32) -> f32 {
 /// from the top, so each aligned block of 2^m indices maps onto an aligned
 /// block), then both coordinates are Owen-scrambled. That is
 /// `(owen(sobol0(i), s1), owen(sobol1(i), s2))` with `i = owen(index, s0)`,
-/// written with four bit reversals instead of seven.
-#[inline]
-pub fn point2(index: u32, seeds: [u32; 3]) -> (u32, u32) {
-    point2_reversed(index.reverse_bits(), seeds)
-}
-
-/// [`point2`] of the index whose bits reversed are `reversed` (a sampler
-/// reverses its index once, not at every draw). The shuffled index's
+/// written with four bit reversals instead of seven: the shuffled index's
 /// reversal comes with its dimension-1 lookups, and the two coordinates are
 /// reversed back together as one 64-bit word.
 #[inline]
-pub fn point2_reversed(reversed: u32, seeds: [u32; 3]) -> (u32, u32) {
-    let r = upward_mix(reversed, seeds[0]);
+pub fn point2(index: u32, seeds: [u32; 3]) -> (u32, u32) {
+    let r = upward_mix(index.reverse_bits(), seeds[0]);
     let both = sobol1_and_reverse(r);
     let x = upward_mix((both >> 32) as u32, seeds[1]);
     let y = upward_mix(both as u32, seeds[2]);
@@ -144,13 +137,7 @@ pub fn point2_reversed(reversed: u32, seeds: [u32; 3]) -> (u32, u32) {
 /// [`point2`] (a scrambled van der Corput sequence over a shuffled index).
 #[inline]
 pub fn point1(index: u32, seeds: [u32; 2]) -> u32 {
-    point1_reversed(index.reverse_bits(), seeds)
-}
-
-/// [`point1`] of the index whose bits reversed are `reversed`.
-#[inline]
-pub fn point1_reversed(reversed: u32, seeds: [u32; 2]) -> u32 {
-    let r = upward_mix(reversed, seeds[0]);
+    let r = upward_mix(index.reverse_bits(), seeds[0]);
     upward_mix(r.reverse_bits(), seeds[1]).reverse_bits()
 }
 

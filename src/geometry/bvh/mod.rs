@@ -85,8 +85,8 @@ fn unpack_key(key: u64) -> (usize, f32) {
 /// ascending order, nearest first, and how many there are. Two (the most
 /// common case) take one branch-free compare-exchange; more, insertion of
 /// each key into the sorted run before it, whose branches follow the
-/// distances (two children through the insertion sort: bunny random rays
-/// 6 % slower).
+/// distances (with two children through it too, the bunny's random rays
+/// were 1/1.18 as fast: docs/performance.md, session 17).
 #[inline(always)]
 fn ordered_hits(dist: [f32; WIDTH], mut mask: u32) -> ([u64; WIDTH], usize) {
     debug_assert!(mask.count_ones() >= 2);
