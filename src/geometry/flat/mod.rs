@@ -19,16 +19,17 @@
 //! AVX at run time it stays two SSE halves (session 13 measured it at 78 %
 //! of the arrays' rate).
 
-use std::array::from_fn;
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+mod wide;
 
 use super::primitives::Primitive;
 use super::shapes::{Crossing, Quad, Rect};
 use super::Ray;
+#[cfg(target_arch = "x86_64")]
+use avx512::{avx512, Lanes16};
 use glam::Vec3;
-
-/// Faces per pass.
-const LANES: usize = 8;
+use wide::{Lanes8, Wide};
 
 /// Most faces a set may hold to be tested in passes rather than walked:
 /// with more turned boxes in the Cornell box, the passes took 7 % less time
@@ -36,151 +37,24 @@ const LANES: usize = 8;
 /// (docs/performance.md, session 14).
 pub const MAX_FACES: usize = 40;
 
-/// Eight floats. Each operation is a loop over the lanes with no branch.
+/// A pack of axis-aligned rects as [`Rect::crossing`] reads them, each
+/// lane's axes picked by masks. An unused lane has a NaN plane, which no
+/// ray crosses.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(32))]
-struct Lanes([f32; LANES]);
-
-/// A lane mask: all bits set where true.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(32))]
-struct Mask([i32; LANES]);
-
-/// A lane-by-lane operator of one of the two lane types.
-macro_rules! lane_op {
-    ($ty:ident, $trait:ident, $f:ident, $op:tt) => {
-        impl $trait for $ty {
-            type Output = $ty;
-            #[inline(always)]
-            fn $f(self, o: $ty) -> $ty {
-                $ty(from_fn(|l| self.0[l] $op o.0[l]))
-            }
-        }
-    };
-}
-lane_op!(Lanes, Add, add, +);
-lane_op!(Lanes, Sub, sub, -);
-lane_op!(Lanes, Mul, mul, *);
-lane_op!(Lanes, Div, div, /);
-lane_op!(Mask, BitAnd, bitand, &);
-lane_op!(Mask, BitOr, bitor, |);
-
-impl Not for Mask {
-    type Output = Mask;
-    #[inline(always)]
-    fn not(self) -> Mask {
-        Mask(self.0.map(|m| !m))
-    }
-}
-
-impl Lanes {
-    #[inline(always)]
-    fn splat(x: f32) -> Lanes {
-        Lanes([x; LANES])
-    }
-
-    /// The smallest lane (no lane is NaN), halving the lanes three times.
-    #[inline(always)]
-    fn least(self) -> f32 {
-        let min = |a: f32, b: f32| if b < a { b } else { a };
-        let x = self.0;
-        let four: [f32; 4] = from_fn(|l| min(x[l], x[l + 4]));
-        let two: [f32; 2] = from_fn(|l| min(four[l], four[l + 2]));
-        min(two[0], two[1])
-    }
-
-    /// Ordered comparisons: false where either side is NaN.
-    #[inline(always)]
-    fn lt(self, o: Lanes) -> Mask {
-        Mask(from_fn(|l| -i32::from(self.0[l] < o.0[l])))
-    }
-
-    #[inline(always)]
-    fn eq(self, o: Lanes) -> Mask {
-        Mask(from_fn(|l| -i32::from(self.0[l] == o.0[l])))
-    }
-
-    #[inline(always)]
-    fn le(self, o: Lanes) -> Mask {
-        Mask(from_fn(|l| -i32::from(self.0[l] <= o.0[l])))
-    }
-}
-
-impl Mask {
-    const NONE: Mask = Mask([0; LANES]);
-
-    /// A mask from one flag per lane.
-    fn of(flags: [bool; LANES]) -> Mask {
-        Mask(flags.map(|f| -i32::from(f)))
-    }
-
-    /// `a` where set, else `b`.
-    #[inline(always)]
-    fn select(self, a: Lanes, b: Lanes) -> Lanes {
-        Lanes(from_fn(|l| if self.0[l] < 0 { a.0[l] } else { b.0[l] }))
-    }
-
-    /// [`Mask::bits`] in the copy compiled with AVX: one `vmovmskps`. The
-    /// portable loop compiled there to a `vmovmskps` of the low half and
-    /// shuffles, ands and ors for the high half (AVX has no 256-bit integer
-    /// compare, so the lanes were split), some twenty instructions.
-    ///
-    /// # Safety
-    /// Only in code compiled with AVX, on a CPU that has it.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    unsafe fn bits_avx(self) -> u32 {
-        use std::arch::x86_64::{__m256, _mm256_movemask_ps};
-        // SAFETY: eight i32 are the 32 bytes of an __m256; the caller
-        // guarantees AVX.
-        unsafe { _mm256_movemask_ps(std::mem::transmute::<[i32; LANES], __m256>(self.0)) as u32 }
-    }
-
-    /// Bit `lane` set where the lane is: [`Mask::bits_avx`] in the AVX
-    /// copy (`AVX`), else a loop over the lanes.
-    #[inline(always)]
-    fn bits<const AVX: bool>(self) -> u32 {
-        #[cfg(target_arch = "x86_64")]
-        if AVX {
-            // SAFETY: `AVX` is true only in the copies compiled with AVX,
-            // which run only where the CPU has it.
-            return unsafe { self.bits_avx() };
-        }
-        let mut bits = 0;
-        for l in 0..LANES {
-            bits |= (self.0[l] as u32 & 1) << l;
-        }
-        bits
-    }
-
-    #[inline(always)]
-    fn any(self) -> bool {
-        let mut any = 0;
-        for m in self.0 {
-            any |= m;
-        }
-        any != 0
-    }
-}
-
-/// Eight axis-aligned rects as [`Rect::crossing`] reads them,
-/// each lane's axes picked by masks. An unused lane has a NaN plane, which
-/// no ray crosses.
-#[derive(Clone, Copy, Debug)]
-struct RectPack {
-    k: Lanes,
-    a: (Lanes, Lanes),
-    b: (Lanes, Lanes),
+struct RectPack<W: Wide> {
+    k: W::Row,
+    a: (W::Row, W::Row),
+    b: (W::Row, W::Row),
     /// Normal axis x, else y, else z.
-    normal_x: Mask,
-    normal_y: Mask,
+    normal_x: W::Mask,
+    normal_y: W::Mask,
     /// First span axis x, else y; second span axis y, else z.
-    first_x: Mask,
-    second_y: Mask,
-    slot: Lanes,
+    first_x: W::Mask,
+    second_y: W::Mask,
+    slot: W::Row,
 }
 
-/// Eight parallelograms, each lane's `u` and `v` found by two dot
+/// A pack of parallelograms, each lane's `u` and `v` found by two dot
 /// products: `Quad::crossing`'s triple products `(rel × edge_v) · normal`
 /// and `(edge_u × rel) · normal`, over the area, rearranged as `rel ·
 /// across_u` and `rel · across_v` with `across_u = (edge_v × normal) / area`
@@ -189,72 +63,73 @@ struct RectPack {
 /// by a few roundings. An unused lane has a zero normal, which gives a NaN
 /// distance.
 #[derive(Clone, Copy, Debug)]
-struct QuadPack {
-    corner: [Lanes; 3],
-    normal: [Lanes; 3],
-    across_u: [Lanes; 3],
-    across_v: [Lanes; 3],
-    slot: Lanes,
+struct QuadPack<W: Wide> {
+    corner: [W::Row; 3],
+    normal: [W::Row; 3],
+    across_u: [W::Row; 3],
+    across_v: [W::Row; 3],
+    slot: W::Row,
 }
 
 /// A ray's origin and direction, each coordinate in every lane.
-struct RayLanes {
-    o: [Lanes; 3],
-    d: [Lanes; 3],
+struct RayLanes<W> {
+    o: [W; 3],
+    d: [W; 3],
 }
 
-impl RayLanes {
+impl<W: Wide> RayLanes<W> {
     #[inline(always)]
-    fn new(ray: &Ray) -> RayLanes {
+    fn new(ray: &Ray) -> RayLanes<W> {
         RayLanes {
-            o: ray.origin.to_array().map(Lanes::splat),
-            d: ray.dir.to_array().map(Lanes::splat),
+            o: ray.origin.to_array().map(W::splat),
+            d: ray.dir.to_array().map(W::splat),
         }
     }
 }
 
 /// The nearest crossing so far in each lane: distance, slot, and a
 /// parallelogram's `(u, v)`.
-struct Best {
-    t: Lanes,
+struct Best<W> {
+    t: W,
     /// Slots as the bits of floats, so that they blend like the rest.
-    slot: Lanes,
-    u: Lanes,
-    v: Lanes,
+    slot: W,
+    u: W,
+    v: W,
 }
 
-impl Best {
+impl<W: Wide> Best<W> {
     #[inline(always)]
-    fn keep(&mut self, take: Mask, t: Lanes, slot: Lanes, u: Lanes, v: Lanes) {
-        self.t = take.select(t, self.t);
-        self.u = take.select(u, self.u);
-        self.v = take.select(v, self.v);
-        self.slot = take.select(slot, self.slot);
+    fn keep(&mut self, take: W::Mask, t: W, slot: W, u: W, v: W) {
+        self.t = W::select(take, t, self.t);
+        self.u = W::select(take, u, self.u);
+        self.v = W::select(take, v, self.v);
+        self.slot = W::select(take, slot, self.slot);
     }
 
     /// The slot in `lane` (`u32::MAX` where the lane found no crossing).
     #[inline(always)]
     fn slot(&self, lane: usize) -> u32 {
-        self.slot.0[lane].to_bits()
+        self.slot.lane(lane).to_bits()
     }
 }
 
-impl RectPack {
+impl<W: Wide> RectPack<W> {
     /// The distance to each plane and whether the point there lies in the
     /// rect, as `Rect::crossing` computes them: `(k − o) / d` on the normal
     /// axis (infinite or NaN where `d` is zero, which no range accepts, as
     /// `Rect::crossing` rejects such rays), then `o + t·d` on the two span
     /// axes (NaN passes, as there).
     #[inline(always)]
-    fn crossings(&self, r: &RayLanes) -> (Lanes, Mask) {
-        let pick = |x: Mask, y: Mask, v: &[Lanes; 3]| x.select(v[0], y.select(v[1], v[2]));
+    fn crossings(&self, r: &RayLanes<W>) -> (W, W::Mask) {
+        let pick =
+            |x: W::Mask, y: W::Mask, v: &[W; 3]| W::select(x, v[0], W::select(y, v[1], v[2]));
         let o = pick(self.normal_x, self.normal_y, &r.o);
         let d = pick(self.normal_x, self.normal_y, &r.d);
-        let t = (self.k - o) / d;
-        let none = Mask::NONE;
+        let t = (W::load(&self.k) - o) / d;
+        let none = W::NONE;
         let (oi, di) = (
-            self.first_x.select(r.o[0], r.o[1]),
-            self.first_x.select(r.d[0], r.d[1]),
+            W::select(self.first_x, r.o[0], r.o[1]),
+            W::select(self.first_x, r.d[0], r.d[1]),
         );
         let (oj, dj) = (
             pick(none, self.second_y, &r.o),
@@ -262,18 +137,20 @@ impl RectPack {
         );
         let x = oi + t * di;
         let y = oj + t * dj;
-        let out = x.lt(self.a.0) | self.a.1.lt(x) | y.lt(self.b.0) | self.b.1.lt(y);
+        let (a0, a1) = (W::load(&self.a.0), W::load(&self.a.1));
+        let (b0, b1) = (W::load(&self.b.0), W::load(&self.b.1));
+        let out = x.lt(a0) | a1.lt(x) | y.lt(b0) | b1.lt(y);
         (t, !out)
     }
 }
 
-impl QuadPack {
+impl<W: Wide> QuadPack<W> {
     /// Each lane's `t` by `Quad::crossing`'s operations in glam's order
     /// (dot products left to right), and its `u` and `v`.
     #[inline(always)]
-    fn crossings(&self, r: &RayLanes) -> (Lanes, Lanes, Lanes) {
-        let [nx, ny, nz] = self.normal;
-        let [cx, cy, cz] = self.corner;
+    fn crossings(&self, r: &RayLanes<W>) -> (W, W, W) {
+        let [nx, ny, nz] = self.normal.each_ref().map(W::load);
+        let [cx, cy, cz] = self.corner.each_ref().map(W::load);
         let ([ox, oy, oz], [dx, dy, dz]) = (r.o, r.d);
         let denom = nx * dx + ny * dy + nz * dz;
         let num = nx * (cx - ox) + ny * (cy - oy) + nz * (cz - oz);
@@ -281,30 +158,142 @@ impl QuadPack {
         let rx = (ox + t * dx) - cx;
         let ry = (oy + t * dy) - cy;
         let rz = (oz + t * dz) - cz;
-        let dot = |[x, y, z]: [Lanes; 3]| rx * x + ry * y + rz * z;
-        (t, dot(self.across_u), dot(self.across_v))
+        let dot = |v: &[W::Row; 3]| {
+            let [x, y, z] = v.each_ref().map(W::load);
+            rx * x + ry * y + rz * z
+        };
+        (t, dot(&self.across_u), dot(&self.across_v))
     }
 }
 
 /// `u` and `v` both in [0, 1] (NaN fails, as in `Quad::crossing`).
 #[inline(always)]
-fn within_unit(u: Lanes, v: Lanes) -> Mask {
-    let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
+fn within_unit<W: Wide>(u: W, v: W) -> W::Mask {
+    let (zero, one) = (W::splat(0.0), W::splat(1.0));
     zero.le(u) & u.le(one) & zero.le(v) & v.le(one)
 }
 
-/// The faces of a primitive set in packs of eight of one kind, in slot
-/// order.
+/// The faces of a primitive set in packs of one kind, in slot order, as
+/// wide as the CPU runs best.
 #[derive(Debug)]
-pub struct FlatFaces {
-    rects: Vec<RectPack>,
-    quads: Vec<QuadPack>,
+pub struct FlatFaces(Width);
+
+/// Packs of sixteen lanes with AVX-512F, else of eight.
+#[derive(Debug)]
+enum Width {
+    Eight(Packs<Lanes8>),
+    #[cfg(target_arch = "x86_64")]
+    Sixteen(Packs<Lanes16>),
+}
+
+/// The rects and the parallelograms of a set, in packs of `W::LANES`.
+#[derive(Debug)]
+struct Packs<W: Wide> {
+    rects: Vec<RectPack<W>>,
+    quads: Vec<QuadPack<W>>,
 }
 
 impl FlatFaces {
-    /// The packs of primitives in slot order; `None` unless every one is a
-    /// rect or a parallelogram and there are at most [`MAX_FACES`].
+    /// The packs of primitives in slot order, sixteen to a pack where the
+    /// CPU has AVX-512F; `None` unless every one is a rect or a
+    /// parallelogram and there are at most [`MAX_FACES`].
     pub fn new(prims: &[Primitive]) -> Option<FlatFaces> {
+        #[cfg(target_arch = "x86_64")]
+        if avx512() {
+            return Packs::new(prims).map(|p| FlatFaces(Width::Sixteen(p)));
+        }
+        Packs::new(prims).map(|p| FlatFaces(Width::Eight(p)))
+    }
+
+    /// The nearest crossing with `t` in `(t_min, t_max)` and its slot.
+    #[inline]
+    pub fn nearest(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+        match &self.0 {
+            Width::Eight(p) => {
+                #[cfg(target_arch = "x86_64")]
+                if super::bvh::avx() {
+                    // SAFETY: the CPU has AVX.
+                    return unsafe { p.nearest_avx(ray, t_min, t_max) };
+                }
+                p.nearest_lanes::<false>(ray, t_min, t_max)
+            }
+            // SAFETY: sixteen-lane packs are built only where the CPU has
+            // AVX-512F.
+            #[cfg(target_arch = "x86_64")]
+            Width::Sixteen(p) => unsafe { p.nearest_avx512(ray, t_min, t_max) },
+        }
+    }
+
+    /// Whether some face is crossed with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        match &self.0 {
+            Width::Eight(p) => {
+                #[cfg(target_arch = "x86_64")]
+                if super::bvh::avx() {
+                    // SAFETY: the CPU has AVX.
+                    return unsafe { p.occluded_avx(ray, t_min, t_max) };
+                }
+                p.occluded_lanes(ray, t_min, t_max)
+            }
+            // SAFETY: as in `nearest`.
+            #[cfg(target_arch = "x86_64")]
+            Width::Sixteen(p) => unsafe { p.occluded_avx512(ray, t_min, t_max) },
+        }
+    }
+}
+
+impl Packs<Lanes8> {
+    /// [`Packs::nearest_lanes`] compiled with AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn nearest_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+        self.nearest_lanes::<true>(ray, t_min, t_max)
+    }
+
+    /// [`Packs::occluded_lanes`] compiled with AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn occluded_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.occluded_lanes(ray, t_min, t_max)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Packs<Lanes16> {
+    /// [`Packs::nearest_lanes`] in sixteen lanes, compiled with AVX-512F.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[target_feature(enable = "avx512f")]
+    unsafe fn nearest_avx512(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(usize, Crossing)> {
+        self.nearest_lanes::<true>(ray, t_min, t_max)
+    }
+
+    /// [`Packs::occluded_lanes`] in sixteen lanes, compiled with AVX-512F.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[target_feature(enable = "avx512f")]
+    unsafe fn occluded_avx512(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.occluded_lanes(ray, t_min, t_max)
+    }
+}
+
+impl<W: Wide> Packs<W> {
+    /// See [`FlatFaces::new`].
+    fn new(prims: &[Primitive]) -> Option<Packs<W>> {
         if prims.is_empty() || prims.len() > MAX_FACES {
             return None;
         }
@@ -317,52 +306,10 @@ impl FlatFaces {
                 _ => return None,
             }
         }
-        Some(FlatFaces {
-            rects: rects.chunks(LANES).map(rect_pack).collect(),
-            quads: quads.chunks(LANES).map(quad_pack).collect(),
+        Some(Packs {
+            rects: rects.chunks(W::LANES).map(rect_pack).collect(),
+            quads: quads.chunks(W::LANES).map(quad_pack).collect(),
         })
-    }
-
-    /// The nearest crossing with `t` in `(t_min, t_max)` and its slot.
-    #[inline]
-    pub fn nearest(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
-        #[cfg(target_arch = "x86_64")]
-        if super::bvh::avx() {
-            // SAFETY: the CPU has AVX.
-            return unsafe { self.nearest_avx(ray, t_min, t_max) };
-        }
-        self.nearest_lanes::<false>(ray, t_min, t_max)
-    }
-
-    /// Whether some face is crossed with `t` in `(t_min, t_max)`.
-    #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if super::bvh::avx() {
-            // SAFETY: the CPU has AVX.
-            return unsafe { self.occluded_avx(ray, t_min, t_max) };
-        }
-        self.occluded_lanes(ray, t_min, t_max)
-    }
-
-    /// [`FlatFaces::nearest_lanes`] compiled with AVX.
-    ///
-    /// # Safety
-    /// The CPU must support AVX.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn nearest_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
-        self.nearest_lanes::<true>(ray, t_min, t_max)
-    }
-
-    /// [`FlatFaces::occluded_lanes`] compiled with AVX.
-    ///
-    /// # Safety
-    /// The CPU must support AVX.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn occluded_avx(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        self.occluded_lanes(ray, t_min, t_max)
     }
 
     #[inline(always)]
@@ -372,30 +319,30 @@ impl FlatFaces {
         t_min: f32,
         t_max: f32,
     ) -> Option<(usize, Crossing)> {
-        let r = RayLanes::new(ray);
-        let t_min = Lanes::splat(t_min);
-        let zero = Lanes::splat(0.0);
+        let r = RayLanes::<W>::new(ray);
+        let t_min = W::splat(t_min);
+        let zero = W::splat(0.0);
         let mut best = Best {
-            t: Lanes::splat(t_max),
-            slot: Lanes::splat(f32::from_bits(u32::MAX)),
+            t: W::splat(t_max),
+            slot: W::splat(f32::from_bits(u32::MAX)),
             u: zero,
             v: zero,
         };
         for p in &self.rects {
             let (t, inside) = p.crossings(&r);
             let take = t_min.lt(t) & t.lt(best.t) & inside;
-            best.keep(take, t, p.slot, zero, zero);
+            best.keep(take, t, W::load(&p.slot), zero, zero);
         }
         for p in &self.quads {
             let (t, u, v) = p.crossings(&r);
             let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
-            best.keep(take, t, p.slot, u, v);
+            best.keep(take, t, W::load(&p.slot), u, v);
         }
         // The nearest lane; of equal distances, the lowest slot. A lane
         // without a crossing keeps `t_max`, and every crossing is strictly
         // nearer, so the least distance is a crossing unless there is none.
         let near = best.t.least();
-        let mut lanes = best.t.eq(Lanes::splat(near)).bits::<AVX>();
+        let mut lanes = W::bits::<AVX>(best.t.eq(W::splat(near)));
         // Lanes without a crossing keep `t_max` and slot `u32::MAX`, whose
         // bits are a NaN: a slot equal to itself (a float comparison; a
         // real slot's bits are a subnormal, which compares as itself) is a
@@ -407,11 +354,11 @@ impl FlatFaces {
         // some twenty instructions more than this, with `bits` (session
         // 15). One lane (the common case) is told by a power-of-two test,
         // not `count_ones`, which is a dozen instructions without POPCNT.
-        lanes &= best.slot.eq(best.slot).bits::<AVX>();
+        lanes &= W::bits::<AVX>(best.slot.eq(best.slot));
         let lane = if lanes & lanes.wrapping_sub(1) == 0 {
             (lanes != 0).then(|| lanes.trailing_zeros() as usize)
         } else {
-            (0..LANES)
+            (0..W::LANES)
                 .filter(|l| lanes & (1 << l) != 0)
                 .min_by_key(|&l| best.slot(l))
         };
@@ -419,8 +366,8 @@ impl FlatFaces {
         Some((
             best.slot(l) as usize,
             Crossing {
-                t: best.t.0[l],
-                data: Vec3::new(best.u.0[l], best.v.0[l], 0.0),
+                t: best.t.lane(l),
+                data: Vec3::new(best.u.lane(l), best.v.lane(l), 0.0),
             },
         ))
     }
@@ -429,18 +376,18 @@ impl FlatFaces {
     /// out of line is compiled without AVX, whatever calls it.
     #[inline(always)]
     fn occluded_lanes(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let r = RayLanes::new(ray);
-        let (t_min, t_max) = (Lanes::splat(t_min), Lanes::splat(t_max));
+        let r = RayLanes::<W>::new(ray);
+        let (t_min, t_max) = (W::splat(t_min), W::splat(t_max));
         // Parallelograms first: in a room they are what stands inside.
         for p in &self.quads {
             let (t, u, v) = p.crossings(&r);
-            if (t_min.lt(t) & t.lt(t_max) & within_unit(u, v)).any() {
+            if W::any(t_min.lt(t) & t.lt(t_max) & within_unit(u, v)) {
                 return true;
             }
         }
         for p in &self.rects {
             let (t, inside) = p.crossings(&r);
-            if (t_min.lt(t) & t.lt(t_max) & inside).any() {
+            if W::any(t_min.lt(t) & t.lt(t_max) & inside) {
                 return true;
             }
         }
@@ -448,13 +395,12 @@ impl FlatFaces {
     }
 }
 
-/// Up to eight rects with their slots as one pack.
-fn rect_pack(faces: &[(u32, Rect)]) -> RectPack {
+/// Up to `W::LANES` rects with their slots as one pack.
+fn rect_pack<W: Wide>(faces: &[(u32, Rect)]) -> RectPack<W> {
     let lane = |f: &dyn Fn(&Rect) -> f32, empty: f32| {
-        Lanes(from_fn(|l| faces.get(l).map_or(empty, |(_, r)| f(r))))
+        W::row(|l| faces.get(l).map_or(empty, |(_, r)| f(r)))
     };
-    let flag =
-        |f: &dyn Fn(&Rect) -> bool| Mask::of(from_fn(|l| faces.get(l).is_some_and(|(_, r)| f(r))));
+    let flag = |f: &dyn Fn(&Rect) -> bool| W::mask(|l| faces.get(l).is_some_and(|(_, r)| f(r)));
     RectPack {
         k: lane(&|r| r.k, f32::NAN),
         a: (lane(&|r| r.a.0, 0.0), lane(&|r| r.a.1, 0.0)),
@@ -463,31 +409,27 @@ fn rect_pack(faces: &[(u32, Rect)]) -> RectPack {
         normal_y: flag(&|r| r.axis == 1),
         first_x: flag(&|r| r.span[0] == 0),
         second_y: flag(&|r| r.span[1] == 1),
-        slot: slots(faces.iter().map(|f| f.0)),
+        slot: slots::<W>(faces.iter().map(|f| f.0).collect()),
     }
 }
 
-/// Up to eight parallelograms with their slots as one pack.
-fn quad_pack(faces: &[(u32, Quad)]) -> QuadPack {
+/// Up to `W::LANES` parallelograms with their slots as one pack.
+fn quad_pack<W: Wide>(faces: &[(u32, Quad)]) -> QuadPack<W> {
     let vec = |f: &dyn Fn(&Quad) -> Vec3| {
-        [0, 1, 2].map(|axis| Lanes(from_fn(|l| faces.get(l).map_or(0.0, |(_, q)| f(q)[axis]))))
+        [0, 1, 2].map(|axis| W::row(|l| faces.get(l).map_or(0.0, |(_, q)| f(q)[axis])))
     };
     QuadPack {
         corner: vec(&|q| q.corner),
         normal: vec(&|q| q.normal),
         across_u: vec(&|q| q.edge_v.cross(q.normal) * q.inv_area()),
         across_v: vec(&|q| q.normal.cross(q.edge_u) * q.inv_area()),
-        slot: slots(faces.iter().map(|f| f.0)),
+        slot: slots::<W>(faces.iter().map(|f| f.0).collect()),
     }
 }
 
-/// Up to eight slots as float bits, `u32::MAX` in unused lanes.
-fn slots(given: impl Iterator<Item = u32>) -> Lanes {
-    let mut lanes = [f32::from_bits(u32::MAX); LANES];
-    for (lane, slot) in lanes.iter_mut().zip(given) {
-        *lane = f32::from_bits(slot);
-    }
-    Lanes(lanes)
+/// Slots as float bits, `u32::MAX` in unused lanes.
+fn slots<W: Wide>(given: Vec<u32>) -> W::Row {
+    W::row(|l| f32::from_bits(given.get(l).copied().unwrap_or(u32::MAX)))
 }
 
 #[cfg(test)]
@@ -497,12 +439,12 @@ mod tests {
     use crate::scene::object::RectPlane;
 
     /// Rects in all three planes and turned parallelograms around `at`,
-    /// `size` across: 9 rects and 14 parallelograms, so packs are full and
-    /// partial.
+    /// `size` across: 18 rects and 22 parallelograms (40, the most a set
+    /// packs), so packs of eight and of sixteen are full and partial.
     fn faces(at: Vec3, size: f32, r: &mut impl FnMut() -> f32) -> Vec<Primitive> {
         let mut out = Vec::new();
         for (i, plane) in [RectPlane::Xy, RectPlane::Xz, RectPlane::Yz]
-            .repeat(3)
+            .repeat(6)
             .into_iter()
             .enumerate()
         {
@@ -521,7 +463,7 @@ mod tests {
                 k,
             )));
         }
-        while out.len() < 23 {
+        while out.len() < MAX_FACES {
             let v = |r: &mut dyn FnMut() -> f32| Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * size;
             let corner = at + v(r);
             let (u, w) = (v(r), v(r));
@@ -610,14 +552,31 @@ mod tests {
         ] {
             let prims = faces(at, size, &mut r);
             let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
+            let eight = Packs::<Lanes8>::new(&prims).expect("rects and parallelograms only");
+            #[cfg(target_arch = "x86_64")]
+            let sixteen = avx512().then(|| Packs::<Lanes16>::new(&prims).expect("packed"));
             for ray in rays(&prims, at, size, &mut r) {
                 let want = one_by_one(&prims, &ray, 0.0, f32::INFINITY);
                 let grazed = || prims.iter().any(|p| edge_distance(p, &ray) < GRAZE);
-                // The lanes as compiled for any CPU, and the copy this CPU runs.
-                for got in [
-                    flat.nearest_lanes::<false>(&ray, 0.0, f32::INFINITY),
+                // Eight lanes as compiled for any CPU, the copy this CPU
+                // runs, and sixteen lanes where the CPU has AVX-512F.
+                let mut answers = vec![
+                    eight.nearest_lanes::<false>(&ray, 0.0, f32::INFINITY),
                     flat.nearest(&ray, 0.0, f32::INFINITY),
-                ] {
+                ];
+                #[cfg(target_arch = "x86_64")]
+                if let Some(p) = &sixteen {
+                    // SAFETY: built only where the CPU has AVX-512F.
+                    answers.push(unsafe { p.nearest_avx512(&ray, 0.0, f32::INFINITY) });
+                }
+                // Every width and copy runs the same operations per face.
+                let bits = |a: &Option<(usize, Crossing)>| {
+                    a.map(|(s, c)| (s, c.t.to_bits(), c.data.to_array().map(f32::to_bits)))
+                };
+                for other in &answers[1..] {
+                    assert_eq!(bits(other), bits(&answers[0]), "{ray:?}");
+                }
+                for got in answers {
                     match (got, want) {
                         (None, None) => {}
                         // Another face than the scalar loop's only in a tie.
@@ -644,10 +603,16 @@ mod tests {
                 }
                 for t_max in [f32::INFINITY, r() * size, want.map_or(1.0, |w| w.1.t)] {
                     let any = prims.iter().any(|p| p.crossing(&ray, 0.0, t_max).is_some());
-                    for blocks in [
-                        flat.occluded_lanes(&ray, 0.0, t_max),
+                    let mut answers = vec![
+                        eight.occluded_lanes(&ray, 0.0, t_max),
                         flat.occluded(&ray, 0.0, t_max),
-                    ] {
+                    ];
+                    #[cfg(target_arch = "x86_64")]
+                    if let Some(p) = &sixteen {
+                        // SAFETY: as above.
+                        answers.push(unsafe { p.occluded_avx512(&ray, 0.0, t_max) });
+                    }
+                    for blocks in answers {
                         assert!(blocks == any || grazed(), "{ray:?} to {t_max}");
                     }
                     blocked += usize::from(any);
