@@ -59,7 +59,7 @@ impl Primitive {
 
     /// The nearest crossing with `t` in `(t_min, t_max)`, without its
     /// surface data.
-    #[inline]
+    #[inline(always)]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         match self {
             Primitive::Sphere(s) => s.crossing(ray, t_min, t_max),

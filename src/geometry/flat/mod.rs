@@ -1,23 +1,26 @@
 //! A small set of flat faces (axis-aligned rects and parallelograms, as
-//! the Cornell box's walls and turned boxes) tested eight at a time, every
-//! face against each ray, with no hierarchy. A rect's lane repeats
-//! `Rect::crossing` operation for operation, so its crossing is the scalar
-//! one bit for bit. A parallelogram's distance is `Quad::crossing`'s bit for
-//! bit; its `u` and `v` come from two dot products with vectors precomputed
-//! per face (the scalar test's triple products rearranged), a few roundings
-//! from the scalar ones, so a ray within those roundings of an edge may be
-//! judged otherwise than a walk of the set's BVH judges it, as may a tie
-//! between two faces at one distance.
+//! the Cornell box's walls and turned boxes) tested sixteen or eight at a
+//! time, every face against each ray, with no hierarchy. A rect's lane
+//! repeats `Rect::crossing` operation for operation, so its crossing is the
+//! scalar one bit for bit. A parallelogram's distance is `Quad::crossing`'s
+//! bit for bit; its `u` and `v` come from two dot products with vectors
+//! precomputed per face (the scalar test's triple products rearranged), a
+//! few roundings from the scalar ones, so a ray within those roundings of an
+//! edge may be judged otherwise than a walk of the set's BVH judges it, as
+//! may a tie between two faces at one distance.
 //!
-//! For so few faces one AVX pass per eight faces costs less than a walk,
-//! whose node visits and branches follow each ray (docs/performance.md,
-//! session 14). The lanes are plain arrays with branch-free operations that
-//! the compiler turns into vector instructions; the tests are compiled
-//! twice and the AVX copy is picked at run time, with the same IEEE
-//! operations in both. Not `wide::f32x8`, which the project uses elsewhere:
-//! its width is fixed when `wide` is compiled, so inside a function given
-//! AVX at run time it stays two SSE halves (session 13 measured it at 78 %
-//! of the arrays' rate).
+//! For so few faces one vector pass per pack costs less than a walk, whose
+//! node visits and branches follow each ray (docs/performance.md, session
+//! 14). The passes are written once, generic over the lane type
+//! ([`wide::Wide`]), with the same IEEE operations per lane in every form:
+//! sixteen lanes in AVX-512F registers where the CPU has them (two passes
+//! for the Cornell box's eighteen faces instead of three: 1.11× its
+//! samples/s, docs/performance.md, session 18), else eight lanes as plain
+//! arrays that the compiler turns into vector instructions, compiled twice
+//! with the AVX copy picked at run time. Not `wide::f32x8`, which the
+//! project uses elsewhere: its width is fixed when `wide` is compiled, so
+//! inside a function given AVX at run time it stays two SSE halves (session
+//! 13 measured it at 78 % of the arrays' rate).
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;

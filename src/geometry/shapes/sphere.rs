@@ -67,7 +67,7 @@ impl Sphere {
 
     /// Both roots of the ray's line, after the early miss test of
     /// [`Sphere::intersect`]; `None` when the line misses.
-    #[inline]
+    #[inline(always)]
     pub fn roots(&self, ray: &Ray) -> Option<Roots> {
         let f = ray.origin - self.center;
         let dd = ray.dir.length_squared();
