@@ -1,5 +1,5 @@
-//! Rendering an image: samples are added to a [`Film`] in rounds (1, 2, 4, …
-//! samples per pixel, at most 16), each round cut into tiles that the
+//! Rendering an image: samples are added to a [`Film`] in rounds (to 1, 8,
+//! 16, 32, 48, … samples per pixel), each round cut into tiles that the
 //! threads of a rayon pool take one at a time, the tiles that cost most in
 //! the last round first. Each pixel's samples are traced in index order from
 //! streams that depend only on (seed, pixel, sample), so the result is
@@ -25,8 +25,28 @@ use crate::scene::Scene;
 /// Tile edge in pixels.
 const TILE: u32 = 16;
 
-/// Most samples per pixel added in one round; rounds start at 1 and double.
+/// Most samples per pixel added in one round.
 const ROUND_MAX: u32 = 16;
+
+/// The samples per pixel a film holds after the round that follows one
+/// holding `reached`: a first round of one sample (a coarse image for the
+/// preview at once), a second up to [`BLOCK`], then doubling, at most
+/// [`ROUND_MAX`] at a time (1, 8, 16, 32, 48, …), never past `spp`.
+fn next_round(reached: u32, spp: u32) -> u32 {
+    let next = match reached {
+        0 => 1,
+        r if r < BLOCK => BLOCK,
+        r => r + r.min(ROUND_MAX),
+    };
+    next.min(spp)
+}
+
+/// The sampler computes a slot's draws for eight samples at once
+/// (`sampling::sampler`), anew in every round that reaches their block, so
+/// rounds past the first end on its blocks: rounds of 1, 2 and 4 samples
+/// recomputed the first block three more times, 1 % of a 64-spp Cornell
+/// render's instructions (docs/performance.md, session 18).
+const BLOCK: u32 = crate::sampling::sobol::LANES as u32;
 
 /// Counters of a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -155,7 +175,7 @@ pub fn render_film(
         let target = if options.noise.is_some() {
             options.spp
         } else {
-            (reached + reached.clamp(1, ROUND_MAX)).min(options.spp)
+            next_round(reached, options.spp)
         };
         let job = Job {
             tracer: &tracer,
@@ -353,7 +373,26 @@ impl Job<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::costliest_first;
+    use super::{costliest_first, next_round, BLOCK};
+
+    #[test]
+    fn rounds_start_with_one_sample_then_end_on_the_samplers_blocks() {
+        let rounds = |spp: u32| {
+            let mut at = vec![0];
+            while *at.last().unwrap() < spp {
+                at.push(next_round(*at.last().unwrap(), spp));
+            }
+            at
+        };
+        assert_eq!(rounds(64), [0, 1, 8, 16, 32, 48, 64]);
+        assert_eq!(rounds(12), [0, 1, 8, 12]);
+        assert_eq!(rounds(1), [0, 1]);
+        // A resumed film goes on to the next block, then by blocks.
+        assert_eq!(next_round(4, 64), 8);
+        for spp in 1..200 {
+            assert!(rounds(spp)[2..].iter().all(|&r| r % BLOCK == 0 || r == spp));
+        }
+    }
 
     #[test]
     fn tiles_are_taken_costliest_first_and_ties_in_grid_order() {
