@@ -58,7 +58,9 @@ impl Primitive {
     }
 
     /// The nearest crossing with `t` in `(t_min, t_max)`, without its
-    /// surface data.
+    /// surface data. Always inlined: a BVH walk's visit is this test, and
+    /// left to the compiler it was once kept out of the walk (random spheres
+    /// +2.3 % instructions, docs/performance.md, session 18).
     #[inline(always)]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         match self {
