@@ -19,6 +19,7 @@ use super::integrator::Tracer;
 use super::lights::LightList;
 use super::options::{Crop, OptionsError, RenderOptions};
 use crate::geometry::World;
+use crate::sampling::sampler::BLOCK;
 use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 
@@ -31,7 +32,12 @@ const ROUND_MAX: u32 = 16;
 /// The samples per pixel a film holds after the round that follows one
 /// holding `reached`: a first round of one sample (a coarse image for the
 /// preview at once), a second up to [`BLOCK`], then doubling, at most
-/// [`ROUND_MAX`] at a time (1, 8, 16, 32, 48, …), never past `spp`.
+/// [`ROUND_MAX`] at a time (1, 8, 16, 32, 48, …), never past `spp`. The
+/// sampler computes a slot's draws for a block of samples at once, anew in
+/// every round that reaches the block, so rounds past the first end on
+/// blocks: rounds of 1, 2 and 4 samples recomputed the first block three
+/// more times, 1 % of a 64-spp Cornell render's instructions
+/// (docs/performance.md, session 18).
 fn next_round(reached: u32, spp: u32) -> u32 {
     let next = match reached {
         0 => 1,
@@ -40,13 +46,6 @@ fn next_round(reached: u32, spp: u32) -> u32 {
     };
     next.min(spp)
 }
-
-/// The sampler computes a slot's draws for eight samples at once
-/// (`sampling::sampler`), anew in every round that reaches their block, so
-/// rounds past the first end on its blocks: rounds of 1, 2 and 4 samples
-/// recomputed the first block three more times, 1 % of a 64-spp Cornell
-/// render's instructions (docs/performance.md, session 18).
-const BLOCK: u32 = crate::sampling::sobol::LANES as u32;
 
 /// Counters of a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

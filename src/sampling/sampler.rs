@@ -68,7 +68,11 @@ const BOUNCE_SLOTS: u32 = 6;
 /// First slot of the extra medium stretches (2^16 per bounce).
 const EXTRA_SLOTS: u32 = 1 << 31;
 
-/// Slots whose draws a reusable sampler keeps eight samples at a time: the
+/// Samples whose draws a reusable sampler computes together (an aligned
+/// block of indices): one vector lane each.
+pub const BLOCK: u32 = sobol::LANES as u32;
+
+/// Slots whose draws a reusable sampler keeps a [`BLOCK`] at a time: the
 /// camera's and those of the first ten bounces. Deeper slots, which few
 /// samples reach, are drawn one at a time.
 const CACHED_SLOTS: usize = (CAMERA_SLOTS + 10 * BOUNCE_SLOTS) as usize;
@@ -117,7 +121,7 @@ impl Block {
         *self = Block {
             pixel,
             block,
-            draws: sobol::points8(block * sobol::LANES as u32, slot_seeds(pixel, slot)),
+            draws: sobol::points8(block * BLOCK, slot_seeds(pixel, slot)),
         };
     }
 
@@ -199,12 +203,12 @@ impl Sampler {
     /// draws are not kept.
     #[inline]
     fn kept(&mut self, slot: u32) -> Option<Vec2> {
-        let (pixel, block) = (self.pixel, self.index / sobol::LANES as u32);
+        let (pixel, block) = (self.pixel, self.index / BLOCK);
         let kept = self.blocks.get_mut(slot as usize)?;
         if kept.pixel != pixel || kept.block != block {
             kept.fill(pixel, block, slot);
         }
-        let lane = self.index as usize % sobol::LANES;
+        let lane = (self.index % BLOCK) as usize;
         Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 

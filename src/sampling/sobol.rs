@@ -341,6 +341,7 @@ mod tests {
             "{mean}"
         );
     }
+
     #[test]
     fn dimension_one_by_shifts_is_dimension_one_by_tables() {
         for i in

@@ -412,7 +412,7 @@ fn rect_pack<W: Wide>(faces: &[(u32, Rect)]) -> RectPack<W> {
         normal_y: flag(&|r| r.axis == 1),
         first_x: flag(&|r| r.span[0] == 0),
         second_y: flag(&|r| r.span[1] == 1),
-        slot: slots::<W>(faces.iter().map(|f| f.0).collect()),
+        slot: slots::<W, _>(faces),
     }
 }
 
@@ -426,13 +426,13 @@ fn quad_pack<W: Wide>(faces: &[(u32, Quad)]) -> QuadPack<W> {
         normal: vec(&|q| q.normal),
         across_u: vec(&|q| q.edge_v.cross(q.normal) * q.inv_area()),
         across_v: vec(&|q| q.normal.cross(q.edge_u) * q.inv_area()),
-        slot: slots::<W>(faces.iter().map(|f| f.0).collect()),
+        slot: slots::<W, _>(faces),
     }
 }
 
-/// Slots as float bits, `u32::MAX` in unused lanes.
-fn slots<W: Wide>(given: Vec<u32>) -> W::Row {
-    W::row(|l| f32::from_bits(given.get(l).copied().unwrap_or(u32::MAX)))
+/// The faces' slots as float bits, `u32::MAX` in unused lanes.
+fn slots<W: Wide, F>(faces: &[(u32, F)]) -> W::Row {
+    W::row(|l| f32::from_bits(faces.get(l).map_or(u32::MAX, |f| f.0)))
 }
 
 #[cfg(test)]
