@@ -92,8 +92,8 @@ pub struct Sampler {
     rng: Rng,
     /// Hash of (seed, pixel): the root of every slot's scramble seeds.
     pixel: u64,
-    /// The sample index: its block of eight is `index / 8`, and the
-    /// scrambles of a draw made alone read its bits reversed.
+    /// The sample index: its block is `index / BLOCK`, and the scrambles
+    /// of a draw made alone read its bits reversed.
     index: u32,
     bounce: u32,
     slot: u32,
@@ -152,7 +152,7 @@ impl Sampler {
     /// A sampler for the samples of a render under `seed`, which keeps
     /// draws for the samples that follow; [`Sampler::start`] picks the
     /// sample. A pixel's samples in index order reuse each block of draws
-    /// eight times.
+    /// [`BLOCK`] times.
     pub fn new(kind: SamplerKind, seed: u64) -> Sampler {
         let kept = match kind {
             SamplerKind::Sobol => CACHED_SLOTS,

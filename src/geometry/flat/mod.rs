@@ -454,15 +454,16 @@ mod tests {
             let lo = (r() - 0.5) * size;
             let span = (lo, lo + size * (0.2 + r()));
             let k = at[[2, 1, 0][i % 3]] + (r() - 0.5) * size;
+            // The centre's coordinates on the rect's two span axes.
             let (a, b) = match plane {
-                RectPlane::Xy => ((at.x, at.y), (at.x, at.y)),
-                RectPlane::Xz => ((at.x, at.z), (at.x, at.z)),
-                RectPlane::Yz => ((at.y, at.z), (at.y, at.z)),
+                RectPlane::Xy => (at.x, at.y),
+                RectPlane::Xz => (at.x, at.z),
+                RectPlane::Yz => (at.y, at.z),
             };
             out.push(Primitive::Rect(Rect::new(
                 plane,
-                (a.0 + span.0, a.0 + span.1),
-                (b.1 + span.0, b.1 + span.1),
+                (a + span.0, a + span.1),
+                (b + span.0, b + span.1),
                 k,
             )));
         }
