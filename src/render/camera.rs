@@ -1,7 +1,7 @@
 //! Camera rays: a thin-lens perspective camera placed by look-from/at/up,
 //! with each ray's time uniform in the shutter interval.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::geometry::Ray;
 use crate::sampling::warp::uniform_disk;
@@ -61,23 +61,52 @@ impl CameraRays {
     pub fn ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
         sampler.begin(Dim::Camera);
         let film = sampler.next_2d();
-        let s = (x as f32 + film.x) / self.size.0;
-        let t = 1.0 - (y as f32 + film.y) / self.size.1;
         // A pinhole needs no lens draw and a closed shutter no time draw;
         // skipping them keeps every other draw as it was.
-        let offset = if self.lens_radius > 0.0 {
-            let lens = uniform_disk(sampler.next_2d());
-            self.lens_radius * (lens.x * self.u + lens.y * self.v)
+        let lens = if self.has_lens() {
+            sampler.next_2d()
         } else {
             sampler.skip_2d();
+            Vec2::ZERO
+        };
+        let time = if self.has_shutter() {
+            sampler.next_1d()
+        } else {
+            sampler.skip_1d();
+            0.0
+        };
+        self.ray_from(x, y, film, lens, time)
+    }
+
+    /// Whether rays start on a lens (a lens draw places them).
+    pub fn has_lens(&self) -> bool {
+        self.lens_radius > 0.0
+    }
+
+    /// Whether rays carry a time drawn in an open shutter.
+    pub fn has_shutter(&self) -> bool {
+        self.shutter.1 != self.shutter.0
+    }
+
+    /// The ray through pixel `(x, y)` for the camera's draws: `film` places
+    /// it in the pixel, `lens` on the lens and `time` in the shutter
+    /// interval (each read only where the camera has a lens and an open
+    /// shutter).
+    #[inline(always)]
+    pub fn ray_from(&self, x: u32, y: u32, film: Vec2, lens: Vec2, time: f32) -> Ray {
+        let s = (x as f32 + film.x) / self.size.0;
+        let t = 1.0 - (y as f32 + film.y) / self.size.1;
+        let offset = if self.has_lens() {
+            let lens = uniform_disk(lens);
+            self.lens_radius * (lens.x * self.u + lens.y * self.v)
+        } else {
             Vec3::ZERO
         };
         let origin = self.origin + offset;
         let to_target = self.lower_left + s * self.horizontal + t * self.vertical - offset;
-        let time = if self.shutter.1 != self.shutter.0 {
-            self.shutter.0 + (self.shutter.1 - self.shutter.0) * sampler.next_1d()
+        let time = if self.has_shutter() {
+            self.shutter.0 + (self.shutter.1 - self.shutter.0) * time
         } else {
-            sampler.skip_1d();
             self.shutter.0
         };
         Ray::new(origin, to_target.normalize(), time)

@@ -27,7 +27,7 @@ use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, MaterialId, Scene};
 
 /// Bounces before Russian roulette may end a path.
-const ROULETTE_AFTER: u32 = 2;
+pub(super) const ROULETTE_AFTER: u32 = 2;
 
 /// The throughput Russian roulette steers paths to after a surface
 /// scattering: a path whose largest throughput component `m` is below it
@@ -51,7 +51,7 @@ const ROULETTE_WEIGHT: f32 = 1.0 / 3.0;
 /// 12 % more rays per sample for the same error × time; with this rule in
 /// media it traces as many as before, at 0.96× the error).
 #[inline]
-fn survival(throughput: Vec3, in_medium: bool) -> f32 {
+pub(super) fn survival(throughput: Vec3, in_medium: bool) -> f32 {
     let m = throughput.max_element();
     if in_medium {
         m.min(0.95)
@@ -89,7 +89,7 @@ enum Previous {
 /// light seen edge-on from a far grazing hit), and inf / inf made the
 /// weight NaN.
 #[inline]
-fn power_heuristic(a: f32, b: f32) -> f32 {
+pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
     if a >= b {
         if a > 0.0 {
             let r = b / a;

@@ -387,6 +387,17 @@ impl LightList {
         })
     }
 
+    /// The list's one light and its 1 / area, when it holds exactly one
+    /// and that one is a parallelogram: the light paths in lanes sample.
+    pub fn single_parallelogram(&self) -> Option<(&Light, f64)> {
+        match self.prepared.as_slice() {
+            [p] if matches!(p.light.shape, LightShape::Parallelogram { .. }) => {
+                Some((&p.light, p.inv_area))
+            }
+            _ => None,
+        }
+    }
+
     /// The probability of choosing light `i` from `p` (normal `n`).
     fn select(&self, i: usize, p: Vec3, n: Vec3) -> f64 {
         match self.selection {
@@ -432,7 +443,7 @@ fn sphere_area(radius: f32) -> f64 {
 /// normal range, else in f64: a huge light's per-area density and the
 /// squared distance to it are out of f32's range even where their product
 /// is not.
-fn area_to_solid_angle(pdf_area: f64, p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
+pub(super) fn area_to_solid_angle(pdf_area: f64, p: Vec3, x: Vec3, n: Vec3) -> Option<f32> {
     let to = x - p;
     let d2 = to.length_squared();
     let d = d2.sqrt();

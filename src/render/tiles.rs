@@ -16,6 +16,7 @@ use super::adaptive::{is_round_end, PixelEstimate};
 use super::camera::CameraRays;
 use super::film::Film;
 use super::integrator::Tracer;
+use super::lanes::Lanes;
 use super::lights::LightList;
 use super::options::{Crop, OptionsError, RenderOptions};
 use crate::geometry::World;
@@ -149,6 +150,11 @@ pub fn render_film(
         options.light_selection,
     );
     let tracer = Tracer::for_options(scene, world, &lights, options);
+    // Paths in lanes draw Sobol' blocks and trace whole blocks: not for the
+    // independent sampler nor for adaptive sampling, which stops per sample.
+    let lanes = (options.sampler == SamplerKind::Sobol && options.noise.is_none())
+        .then(|| Lanes::new(&tracer, &camera))
+        .flatten();
     let pool = match options.threads {
         None => None,
         Some(n) => Some(
@@ -178,6 +184,7 @@ pub fn render_film(
         };
         let job = Job {
             tracer: &tracer,
+            lanes: lanes.as_ref(),
             camera: &camera,
             seed: options.seed,
             sampler: options.sampler,
@@ -290,6 +297,8 @@ fn tiles_of(region: Crop) -> Vec<Crop> {
 /// starts at sample index `first`.
 struct Job<'a> {
     tracer: &'a Tracer<'a>,
+    /// The tracer in lanes, when the scene and options allow it.
+    lanes: Option<&'a Lanes<'a>>,
     camera: &'a CameraRays,
     seed: u64,
     sampler: SamplerKind,
@@ -336,7 +345,37 @@ impl Job<'_> {
                 let done = film.taken[i].max(self.target);
                 let mut estimate = PixelEstimate::default();
                 let mut traced = film.taken[i];
-                for s in film.taken[i]..self.target {
+                if let Some(lanes) = self.lanes {
+                    let mut s = film.taken[i];
+                    while s < self.target {
+                        let index = self.first + s;
+                        let lane0 = (index % BLOCK) as usize;
+                        let count = (BLOCK as usize - lane0).min((self.target - s) as usize);
+                        let live = std::array::from_fn(|l| l >= lane0 && l < lane0 + count);
+                        let (ls, rs) = lanes.block(&mut sampler, (x, y), index / BLOCK, live);
+                        for (mut l, rays) in ls.into_iter().zip(rs).skip(lane0).take(count) {
+                            traced += 1;
+                            if let Some(c) = self.clamp {
+                                l = clamp_radiance(l, c);
+                            }
+                            r.rays += rays as u64;
+                            r.samples += 1;
+                            if l.is_finite() {
+                                sum += l;
+                                kept += 1;
+                            } else {
+                                r.dropped += 1;
+                            }
+                        }
+                        s += count as u32;
+                    }
+                }
+                let start = if self.lanes.is_some() {
+                    self.target
+                } else {
+                    film.taken[i]
+                };
+                for s in start..self.target {
                     if let Some(goal) = self.noise {
                         if is_round_end(s) && estimate.relative_error() < f64::from(goal) {
                             break;

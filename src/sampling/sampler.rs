@@ -212,6 +212,33 @@ impl Sampler {
         Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 
+    /// The Sobol' draws of the first slot of `dim` in bounce `bounce`, plus
+    /// `offset`, for the [`BLOCK`] samples of the current sample's block:
+    /// lane `i` holds sample `block · BLOCK + i`'s draw, its two numbers in
+    /// rows 0 and 1 (a 1-D draw is row 0). They are the numbers
+    /// [`Sampler::next_2d`] and [`Sampler::next_1d`] give each sample at
+    /// that slot.
+    #[inline]
+    pub fn block_draws(
+        &mut self,
+        bounce: u32,
+        dim: Dim,
+        offset: u32,
+    ) -> [[f32; BLOCK as usize]; 2] {
+        self.bounce = bounce;
+        let slot = self.slot_of(dim) + offset;
+        let (pixel, block) = (self.pixel, self.index / BLOCK);
+        match self.blocks.get_mut(slot as usize) {
+            Some(kept) => {
+                if kept.pixel != pixel || kept.block != block {
+                    kept.fill(pixel, block, slot);
+                }
+                kept.draws
+            }
+            None => sobol::points8(block * BLOCK, slot_seeds(pixel, slot)),
+        }
+    }
+
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
     #[inline]
     pub fn start_bounce(&mut self, depth: u32) {

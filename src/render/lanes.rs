@@ -1,0 +1,444 @@
+//! Paths in lanes: the [`BLOCK`] samples of one sampler block of a pixel
+//! traced side by side, bounce by bounce, for scenes of diffuse surfaces
+//! lit by at most one parallelogram light. The
+//! samples of a block share their Sobol' draws slot by slot (one vector
+//! each), so the shading of all eight — light point, shadow segment,
+//! cosine-weighted direction, offsets, Russian roulette — runs as loops
+//! over lanes of the scalar code, which the compiler vectorises; rays are
+//! traced one at a time. Each lane performs exactly the floating-point
+//! operations of [`Tracer::radiance`], so an image is bit-identical to the
+//! scalar integrator's (tests/lanes.rs). Scenes it does not cover
+//! ([`Lanes::new`] says `None`) take the scalar integrator.
+
+use glam::{Vec2, Vec3};
+
+use super::camera::CameraRays;
+use super::integrator::{background, power_heuristic, survival, Tracer, ROULETTE_AFTER};
+use super::lights::{area_to_solid_angle, Light, LightShape};
+use crate::geometry::medium::MediumSegments;
+use crate::geometry::ray::{offset_origin, SHADOW_END};
+use crate::geometry::{Hit, Ray};
+use crate::sampling::sampler::BLOCK;
+use crate::sampling::warp::cosine_hemisphere;
+use crate::sampling::{Dim, Sampler};
+use crate::scene::{Material, Texture};
+
+/// Samples traced side by side: one sampler block.
+pub const WIDTH: usize = BLOCK as usize;
+
+type Lane<T> = [T; WIDTH];
+
+/// How a material scatters, as the lanes know it.
+#[derive(Clone, Copy, Debug)]
+enum Surface {
+    Diffuse(Vec3),
+    Emitter { emit: Vec3, two_sided: bool },
+}
+
+/// The one light paths sample, with its point's error bound.
+#[derive(Clone, Copy, Debug)]
+struct FlatLight {
+    corner: Vec3,
+    edges: (Vec3, Vec3),
+    normal: Vec3,
+    error: Vec3,
+    inv_area: f64,
+    emit: Vec3,
+    two_sided: bool,
+}
+
+/// A scene's tracer in lanes.
+pub struct Lanes<'a> {
+    tracer: &'a Tracer<'a>,
+    camera: &'a CameraRays,
+    surfaces: Vec<Surface>,
+    /// The light next-event estimation samples (`None`: no light sampling).
+    light: Option<FlatLight>,
+}
+
+impl<'a> Lanes<'a> {
+    /// The lanes for `tracer` and `camera`, or `None` when the scene holds
+    /// something they do not trace: a material
+    /// other than a solid-coloured lambertian or light (so no medium, whose
+    /// phase function is isotropic), or light sampling over anything but
+    /// one parallelogram.
+    pub fn new(tracer: &'a Tracer<'a>, camera: &'a CameraRays) -> Option<Lanes<'a>> {
+        let scene = tracer.scene;
+        let solid = |id| match scene.texture(id) {
+            Texture::Solid(c) => Some(Vec3::new(c.x, c.y, c.z)),
+            _ => None,
+        };
+        let surfaces = scene
+            .materials
+            .iter()
+            .map(|m| match *m {
+                Material::Lambertian { albedo } => Some(Surface::Diffuse(solid(albedo)?)),
+                Material::Light { emit, two_sided } => Some(Surface::Emitter {
+                    emit: solid(emit)?,
+                    two_sided,
+                }),
+                _ => None,
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let lights = tracer.lights;
+        let light = if tracer.light_sampling && !lights.is_empty() {
+            let (l, inv_area) = lights.single_parallelogram()?;
+            Some(flat_light(l, inv_area))
+        } else {
+            None
+        };
+        Some(Lanes {
+            tracer,
+            camera,
+            surfaces,
+            light,
+        })
+    }
+
+    /// The radiance and rays of the samples of pixel `(x, y)` in sampler
+    /// block `block` whose lanes `live` flags, as [`Tracer::sample`] gives
+    /// each (other lanes come out zero).
+    pub fn block(
+        &self,
+        sampler: &mut Sampler,
+        (x, y): (u32, u32),
+        block: u32,
+        live: Lane<bool>,
+    ) -> (Lane<Vec3>, Lane<u32>) {
+        sampler.start(x, y, block * BLOCK);
+        let world = self.tracer.world;
+        let scene = self.tracer.scene;
+        let mut media = MediumSegments::default();
+        let mut alive = live;
+        let mut radiance = [Vec3::ZERO; WIDTH];
+        let mut throughput = [Vec3::ONE; WIDTH];
+        let mut rays = [0u32; WIDTH];
+        // The last scattering of each lane: `None` for the camera ray.
+        let mut previous: Lane<Option<(Vec3, Vec3, f32)>> = [None; WIDTH];
+        let none = [[0.0; WIDTH]; 2];
+        let film = sampler.block_draws(0, Dim::Camera, 0);
+        let camera = self.camera;
+        let lens = match camera.has_lens() {
+            true => sampler.block_draws(0, Dim::Camera, 1),
+            false => none,
+        };
+        let time = match camera.has_shutter() {
+            true => sampler.block_draws(0, Dim::Camera, 2)[0],
+            false => none[0],
+        };
+        let mut ray: Lane<Ray> = std::array::from_fn(|i| {
+            let at = |u: &[Lane<f32>; 2]| Vec2::new(u[0][i], u[1][i]);
+            camera.ray_from(x, y, at(&film), at(&lens), time[i])
+        });
+        let mut hits = [None::<Hit>; WIDTH];
+        for depth in 0..self.tracer.max_depth {
+            if !alive.contains(&true) {
+                break;
+            }
+            for i in 0..WIDTH {
+                if !alive[i] {
+                    continue;
+                }
+                rays[i] += 1;
+                hits[i] = world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media);
+                if hits[i].is_none() {
+                    let bg = background(&scene.settings.background, ray[i].dir);
+                    radiance[i] += throughput[i] * bg;
+                    alive[i] = false;
+                }
+            }
+            // The lanes' surfaces: diffuse ones go on, emitters end.
+            let mut frame = Frame::default();
+            let mut diffuse = [false; WIDTH];
+            for i in 0..WIDTH {
+                let Some(hit) = hits[i].as_ref().filter(|_| alive[i]) else {
+                    continue;
+                };
+                match self.surfaces[hit.material.0 as usize] {
+                    Surface::Diffuse(albedo) => {
+                        diffuse[i] = true;
+                        frame.set(i, hit, albedo);
+                    }
+                    Surface::Emitter { emit, two_sided } => {
+                        let emitted = if hit.front_face || two_sided {
+                            emit
+                        } else {
+                            Vec3::ZERO
+                        };
+                        if emitted != Vec3::ZERO {
+                            let weight = match previous[i] {
+                                Some((point, normal, pdf)) if self.light.is_some() => self
+                                    .tracer
+                                    .lights
+                                    .pdf(hit.light, point, normal, hit.point, hit.geo_normal)
+                                    .map_or(1.0, |light| power_heuristic(pdf, light)),
+                                _ => 1.0,
+                            };
+                            radiance[i] += throughput[i] * emitted * weight;
+                        }
+                        alive[i] = false;
+                    }
+                }
+            }
+            if !diffuse.contains(&true) {
+                break;
+            }
+            let u = Draws {
+                light: self
+                    .light
+                    .map_or(none, |_| sampler.block_draws(depth, Dim::Light, 1)),
+                bsdf: sampler.block_draws(depth, Dim::Bsdf, 0),
+            };
+            let s = shade(&frame, &u, self.light.as_ref());
+            if let Some(light) = &self.light {
+                for i in 0..WIDTH {
+                    let traced = diffuse[i] && s.traced[i];
+                    if !traced {
+                        continue;
+                    }
+                    let (origin, to) = (s.origin.get(i), s.to.get(i));
+                    let shadow = Ray::new(origin, to - origin, ray[i].time);
+                    rays[i] += 1;
+                    if !world.occluded(&shadow, 0.0, SHADOW_END, &mut media) {
+                        radiance[i] += throughput[i] * s.f.get(i) * light.emit * s.scale[i];
+                    }
+                }
+            }
+            let mut survive = [1.0f32; WIDTH];
+            for i in 0..WIDTH {
+                if !diffuse[i] {
+                    continue;
+                }
+                previous[i] = Some((frame.point.get(i), frame.normal.get(i), s.pdf[i]));
+                throughput[i] *= frame.albedo.get(i);
+                if depth >= ROULETTE_AFTER {
+                    survive[i] = survival(throughput[i], false);
+                }
+            }
+            let roulette = match survive.iter().any(|&p| p < 1.0) {
+                true => sampler.block_draws(depth, Dim::Roulette, 0)[0],
+                false => none[0],
+            };
+            for i in 0..WIDTH {
+                if !diffuse[i] {
+                    continue;
+                }
+                if survive[i] < 1.0 {
+                    if roulette[i] >= survive[i] {
+                        alive[i] = false;
+                        continue;
+                    }
+                    throughput[i] /= survive[i];
+                }
+                ray[i] = Ray::new(s.next.get(i), s.wi.get(i), ray[i].time);
+            }
+        }
+        (radiance, rays)
+    }
+}
+
+/// Three coordinates in lanes.
+#[derive(Clone, Copy, Default)]
+struct Lanes3 {
+    x: Lane<f32>,
+    y: Lane<f32>,
+    z: Lane<f32>,
+}
+
+impl Lanes3 {
+    #[inline(always)]
+    fn get(&self, i: usize) -> Vec3 {
+        Vec3::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, v: Vec3) {
+        (self.x[i], self.y[i], self.z[i]) = (v.x, v.y, v.z);
+    }
+}
+
+/// The lanes' diffuse hits: point, its error bound, geometric and shading
+/// normals, albedo (a lane without one keeps harmless defaults).
+#[derive(Default)]
+struct Frame {
+    point: Lanes3,
+    error: Lanes3,
+    geo_normal: Lanes3,
+    normal: Lanes3,
+    albedo: Lanes3,
+}
+
+impl Frame {
+    #[inline(always)]
+    fn set(&mut self, i: usize, hit: &Hit, albedo: Vec3) {
+        self.point.set(i, hit.point);
+        self.error.set(i, hit.error);
+        self.geo_normal.set(i, hit.geo_normal);
+        self.normal.set(i, hit.normal);
+        self.albedo.set(i, albedo);
+    }
+}
+
+/// The Sobol' draws of one bounce's shading: the light point and the
+/// direction.
+struct Draws {
+    light: [Lane<f32>; 2],
+    bsdf: [Lane<f32>; 2],
+}
+
+/// One bounce's shading of every lane: the light sample's shadow segment
+/// (`origin` to `to`, to trace if `traced`) and what the light adds when
+/// nothing blocks it (`f · emit · scale`); the scattered direction `wi`,
+/// its density and the origin `next` of the ray along it.
+#[derive(Default)]
+struct Shaded {
+    traced: Lane<bool>,
+    origin: Lanes3,
+    to: Lanes3,
+    f: Lanes3,
+    scale: Lane<f32>,
+    wi: Lanes3,
+    pdf: Lane<f32>,
+    next: Lanes3,
+}
+
+/// [`shade_lanes`] compiled for the CPU at hand (eight lanes in one AVX
+/// register where it has AVX2).
+#[inline]
+fn shade(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2.
+        return unsafe { shade_avx2(frame, u, light) };
+    }
+    shade_lanes(frame, u, light)
+}
+
+/// [`shade_lanes`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn shade_avx2(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
+    shade_lanes(frame, u, light)
+}
+
+/// The scalar integrator's shading of a lambertian hit, lane by lane in
+/// loops without branches the compiler vectorises: `LightList::sample` of
+/// the one parallelogram, the lambertian's `eval_pdf`, `spawn_to`, then
+/// `Bsdf::sample` and `Hit::spawn_origin`.
+#[inline(always)]
+fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
+    let mut out = Shaded::default();
+    if let Some(light) = light {
+        light.sample(frame, &u.light, &mut out);
+    }
+    for i in 0..WIDTH {
+        let n = frame.normal.get(i);
+        let wi = cosine_hemisphere(n, Vec2::new(u.bsdf[0][i], u.bsdf[1][i]));
+        out.pdf[i] = n.dot(wi).max(0.0) * std::f32::consts::FRAC_1_PI;
+        let next = offset_origin(
+            frame.point.get(i),
+            frame.error.get(i),
+            frame.geo_normal.get(i),
+            wi,
+        );
+        out.wi.set(i, wi);
+        out.next.set(i, next);
+    }
+    out
+}
+
+fn flat_light(l: &Light, inv_area: f64) -> FlatLight {
+    let LightShape::Parallelogram {
+        corner,
+        edges,
+        normal,
+    } = l.shape
+    else {
+        unreachable!("a parallelogram light")
+    };
+    FlatLight {
+        corner,
+        edges,
+        normal,
+        error: crate::geometry::ray::gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs()),
+        inv_area,
+        emit: l.emit,
+        two_sided: l.two_sided,
+    }
+}
+
+impl FlatLight {
+    /// The densities of the lanes not `in_range` of `area_to_solid_angle`'s
+    /// f32 path, by its f64 one (a huge light, or one very near); kept out
+    /// of the vector loop, which would otherwise run it in every lane.
+    #[cold]
+    #[inline(never)]
+    fn wide_pdfs(
+        &self,
+        frame: &Frame,
+        u: &[Lane<f32>; 2],
+        in_range: &Lane<bool>,
+        pdf: &mut Lane<f32>,
+    ) {
+        for i in (0..WIDTH).filter(|&i| !in_range[i]) {
+            let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
+            let p = frame.point.get(i);
+            pdf[i] = area_to_solid_angle(self.inv_area, p, x, self.normal).unwrap_or(-1.0);
+        }
+    }
+
+    /// `LightList::sample` of this light with the light-point draws `u`,
+    /// the lambertian's `eval_pdf` and the shadow segment of `spawn_to`, in
+    /// every lane, into `out`.
+    #[inline(always)]
+    fn sample(&self, frame: &Frame, u: &[Lane<f32>; 2], out: &mut Shaded) {
+        let a = self.inv_area as f32;
+        let mut pdf = [0.0f32; WIDTH];
+        let mut in_range = [true; WIDTH];
+        for i in 0..WIDTH {
+            let p = frame.point.get(i);
+            let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
+            // `area_to_solid_angle`'s f32 path (its f64 one below).
+            let to = x - p;
+            let d2 = to.length_squared();
+            let d = d2.sqrt();
+            let cos_d = self.normal.dot(to).abs();
+            let fast = a * d2 * d / cos_d;
+            in_range[i] = a >= f32::MIN_POSITIVE && d2 >= f32::MIN_POSITIVE && fast.is_finite();
+            pdf[i] = if cos_d > 1e-7 * d { fast } else { -1.0 };
+        }
+        // Rare (a huge light or one very near): the f64 path, lane by lane.
+        if in_range.contains(&false) {
+            self.wide_pdfs(frame, u, &in_range, &mut pdf);
+        }
+        for i in 0..WIDTH {
+            let (p, n, g) = (
+                frame.point.get(i),
+                frame.normal.get(i),
+                frame.geo_normal.get(i),
+            );
+            let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
+            let to = x - p;
+            let dist = to.length();
+            let dir = to / dist;
+            let faces = self.two_sided || !(self.normal.dot(dir) >= 0.0);
+            let pdf = pdf[i] * 1.0;
+            // The lambertian's value and density for `dir`.
+            let cos = n.dot(dir);
+            let scatters = cos > 0.0 && g.dot(dir) > 0.0;
+            let f = frame.albedo.get(i) * std::f32::consts::FRAC_1_PI * cos;
+            let scatter_pdf = cos * std::f32::consts::FRAC_1_PI;
+            let origin = offset_origin(p, frame.error.get(i), g, x - p);
+            let target = offset_origin(x, self.error, self.normal, origin - x);
+            let weight = power_heuristic(pdf, scatter_pdf);
+            out.traced[i] = faces & scatters & (pdf > 0.0) & pdf.is_finite();
+            out.origin.set(i, origin);
+            out.to.set(i, target);
+            out.f.set(i, f);
+            out.scale[i] = 1.0 * weight / pdf;
+        }
+    }
+}
