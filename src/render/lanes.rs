@@ -130,34 +130,30 @@ impl<'a> Lanes<'a> {
             let at = |u: &[Lane<f32>; 2]| Vec2::new(u[0][i], u[1][i]);
             camera.ray_from(x, y, at(&film), at(&lens), time[i])
         });
-        let mut hits = [None::<Hit>; WIDTH];
         for depth in 0..self.tracer.max_depth {
             if !alive.contains(&true) {
                 break;
             }
+            // Each lane's ray: the background ends it, an emitter ends it,
+            // a diffuse surface is shaded in lanes below.
+            let mut frame = Frame::default();
+            let mut diffuse = [false; WIDTH];
             for i in 0..WIDTH {
                 if !alive[i] {
                     continue;
                 }
                 rays[i] += 1;
-                hits[i] = world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media);
-                if hits[i].is_none() {
+                let Some(hit) = world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media)
+                else {
                     let bg = background(&scene.settings.background, ray[i].dir);
                     radiance[i] += throughput[i] * bg;
                     alive[i] = false;
-                }
-            }
-            // The lanes' surfaces: diffuse ones go on, emitters end.
-            let mut frame = Frame::default();
-            let mut diffuse = [false; WIDTH];
-            for i in 0..WIDTH {
-                let Some(hit) = hits[i].as_ref().filter(|_| alive[i]) else {
                     continue;
                 };
                 match self.surfaces[hit.material.0 as usize] {
                     Surface::Diffuse(albedo) => {
                         diffuse[i] = true;
-                        frame.set(i, hit, albedo);
+                        frame.set(i, &hit, albedo);
                     }
                     Surface::Emitter { emit, two_sided } => {
                         let emitted = if hit.front_face || two_sided {
