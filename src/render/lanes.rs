@@ -420,7 +420,7 @@ impl FlatLight {
             let to = x - p;
             let dist = to.length();
             let dir = to / dist;
-            let faces = self.two_sided || !(self.normal.dot(dir) >= 0.0);
+            let behind = !self.two_sided && self.normal.dot(dir) >= 0.0;
             let pdf = pdf[i] * 1.0;
             // The lambertian's value and density for `dir`.
             let cos = n.dot(dir);
@@ -430,7 +430,7 @@ impl FlatLight {
             let origin = offset_origin(p, frame.error.get(i), g, x - p);
             let target = offset_origin(x, self.error, self.normal, origin - x);
             let weight = power_heuristic(pdf, scatter_pdf);
-            out.traced[i] = faces & scatters & (pdf > 0.0) & pdf.is_finite();
+            out.traced[i] = !behind & scatters & (pdf > 0.0) & pdf.is_finite();
             out.origin.set(i, origin);
             out.to.set(i, target);
             out.f.set(i, f);

@@ -54,6 +54,10 @@ pub struct RenderOptions {
     /// Independent sample set: pass `p` takes the sample indices
     /// `p·spp .. (p+1)·spp` of every pixel's stream.
     pub pass: u32,
+    /// Trace the samples of each sampler block side by side where the
+    /// scene allows it (`render::lanes`: the same image, faster); off, one
+    /// path at a time everywhere (on by default).
+    pub lanes: bool,
     /// The most bytes the film of the rendered region may take (the same
     /// budget `--memory-budget` gives the scene's evaluation), checked
     /// after the command line's size overrides.
@@ -134,6 +138,7 @@ impl RenderOptions {
             noise: None,
             sample_offset: 0,
             pass: 0,
+            lanes: true,
             memory_budget: DEFAULT_MEMORY_BUDGET,
         }
     }

@@ -152,7 +152,7 @@ pub fn render_film(
     let tracer = Tracer::for_options(scene, world, &lights, options);
     // Paths in lanes draw Sobol' blocks and trace whole blocks: not for the
     // independent sampler nor for adaptive sampling, which stops per sample.
-    let lanes = (options.sampler == SamplerKind::Sobol && options.noise.is_none())
+    let lanes = (options.lanes && options.sampler == SamplerKind::Sobol && options.noise.is_none())
         .then(|| Lanes::new(&tracer, &camera))
         .flatten();
     let pool = match options.threads {

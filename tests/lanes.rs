@@ -1,0 +1,166 @@
+//! Paths in lanes (`render::lanes`) give the scalar integrator's image bit
+//! for bit: every scene they trace, under every option that changes which
+//! samples a tile traces or how a path is built, renders to the same pixels,
+//! ray counts and dropped samples with `RenderOptions::lanes` on and off.
+//! And scenes they do not trace are left to the scalar integrator.
+
+use std::path::Path;
+
+use rtlang::geometry::World;
+use rtlang::lang::{load_scene_with, Options};
+use rtlang::render::camera::CameraRays;
+use rtlang::render::integrator::Tracer;
+use rtlang::render::lanes::Lanes;
+use rtlang::render::lights::LightList;
+use rtlang::render::{render, Crop, RenderOptions};
+use rtlang::scene::Scene;
+
+fn load(file: &str, defines: &[(&str, &str)]) -> Scene {
+    let options = Options {
+        defines: defines
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+        ..Options::default()
+    };
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+    load_scene_with(&path, &options)
+        .unwrap_or_else(|e| panic!("{file}: {e:?}"))
+        .scene
+}
+
+/// Whether a render of `scene` with `options` traces its paths in lanes.
+fn in_lanes(scene: &Scene, world: &World, options: &RenderOptions) -> bool {
+    let lights = LightList::for_render(
+        scene,
+        world,
+        options.light_sampling,
+        options.light_selection,
+    );
+    let tracer = Tracer::for_options(scene, world, &lights, options);
+    let camera = CameraRays::new(&scene.camera, options.width, options.height, world.origin());
+    Lanes::new(&tracer, &camera).is_some()
+}
+
+/// The pixels' bits, rays and dropped samples of a render.
+fn render_bits(scene: &Scene, world: &World, options: &RenderOptions) -> (Vec<u32>, u64, u64) {
+    let out = render(scene, world, options, &|_| {}).expect("renders");
+    let bits = out
+        .pixels
+        .iter()
+        .flat_map(|p| p.to_array().map(f32::to_bits))
+        .collect();
+    (bits, out.stats.rays, out.stats.dropped)
+}
+
+/// Renders `scene` with `options` in lanes and one path at a time, and
+/// asserts that lanes are taken and the two agree bit for bit.
+fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
+    let world = World::build(scene).expect("builds");
+    assert!(
+        in_lanes(scene, &world, options),
+        "{what}: not traced in lanes"
+    );
+    let lanes = render_bits(scene, &world, options);
+    let scalar = render_bits(
+        scene,
+        &world,
+        &RenderOptions {
+            lanes: false,
+            ..options.clone()
+        },
+    );
+    assert!(lanes.0.iter().any(|&b| b != 0), "{what}: a black image");
+    assert_eq!(lanes.1, scalar.1, "{what}: rays traced");
+    assert_eq!(lanes.2, scalar.2, "{what}: dropped samples");
+    let differ = lanes
+        .0
+        .iter()
+        .zip(&scalar.0)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "{what}: {differ} channels differ");
+}
+
+#[test]
+fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
+    let variants: [&[(&str, &str)]; 6] = [
+        &[],
+        &[("two", "true")],
+        &[("tilt", "0"), ("ledge", "true")],
+        &[("lift", "1e15")],
+        &[("lens", "0.2")],
+        &[("close", "0")],
+    ];
+    for defines in variants {
+        let scene = load("tests/scenes/lanes.rt", defines);
+        let base = RenderOptions::from_settings(&scene.settings);
+        // 13 samples end inside a block; a second pass starts inside one.
+        let cases = [
+            ("light sampling", base.clone()),
+            (
+                "plain paths",
+                RenderOptions {
+                    light_sampling: false,
+                    ..base.clone()
+                },
+            ),
+            (
+                "pass 1, one thread",
+                RenderOptions {
+                    pass: 1,
+                    threads: Some(1),
+                    ..base.clone()
+                },
+            ),
+            (
+                "a crop, clamped, depth 2",
+                RenderOptions {
+                    crop: Some(Crop {
+                        x0: 3,
+                        x1: 21,
+                        y0: 5,
+                        y1: 17,
+                    }),
+                    clamp: Some(0.5),
+                    max_depth: 2,
+                    ..base.clone()
+                },
+            ),
+        ];
+        for (what, options) in cases {
+            assert_same(&format!("{defines:?}, {what}"), &scene, &options);
+        }
+    }
+}
+
+#[test]
+fn the_cornell_box_is_traced_in_lanes_as_one_path_at_a_time() {
+    let scene = load("scenes/cornell.rt", &[]);
+    let options = RenderOptions {
+        width: 40,
+        height: 40,
+        spp: 20,
+        ..RenderOptions::from_settings(&scene.settings)
+    };
+    assert_same("cornell.rt", &scene, &options);
+}
+
+#[test]
+fn scenes_the_lanes_do_not_trace_take_the_scalar_integrator() {
+    // A medium; textured, metal and glass surfaces; several lights.
+    for (file, nee) in [
+        ("scenes/cornell_smoke.rt", true),
+        ("scenes/spheres.rt", false),
+        ("scenes/revolution.rt", true),
+        ("scenes/lamps.rt", true),
+    ] {
+        let scene = load(file, &[]);
+        let world = World::build(&scene).expect("builds");
+        let options = RenderOptions {
+            light_sampling: nee,
+            ..RenderOptions::from_settings(&scene.settings)
+        };
+        assert!(!in_lanes(&scene, &world, &options), "{file}");
+    }
+}
