@@ -84,8 +84,9 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 6] = [
+    let variants: [&[(&str, &str)]; 7] = [
         &[],
+        &[("ball", "true")],
         &[("two", "true")],
         &[("tilt", "0"), ("ledge", "true")],
         &[("lift", "1e15")],
@@ -94,6 +95,10 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);
+        // Both ways of tracing the lanes' rays: crossings first in a world
+        // of flat faces only, whole hits one lane at a time otherwise.
+        let flat = World::build(&scene).expect("builds").flat_set().is_some();
+        assert_eq!(flat, defines != [("ball", "true")], "{defines:?}");
         let base = RenderOptions::from_settings(&scene.settings);
         // 13 samples end inside a block; a second pass starts inside one.
         let cases = [

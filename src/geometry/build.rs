@@ -103,6 +103,19 @@ impl World {
         &self.emitters
     }
 
+    /// The world's one set of flat faces, when that is all it holds (a
+    /// room of rects and turned boxes): its crossings can be found for many
+    /// rays before any of their hits is built.
+    pub fn flat_set(&self) -> Option<&PrimitiveSet> {
+        match &self.root {
+            Root::Bare(g) => match g.as_ref() {
+                Geometry::Primitives(set) if set.is_flat() => Some(set),
+                _ => None,
+            },
+            Root::Placed(_) => None,
+        }
+    }
+
     /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {

@@ -225,9 +225,29 @@ impl PrimitiveSet {
     #[inline(never)]
     fn flat_hit(&self, flat: &FlatFaces, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let (slot, c) = flat.nearest(ray, t_min, t_max)?;
-        let h = self.flat_surface(slot, ray, &c);
+        Some(self.flat_hit_at(slot, ray, &c))
+    }
+
+    /// Whether the set is tested in flat-face passes.
+    pub fn is_flat(&self) -> bool {
+        self.flat.is_some()
+    }
+
+    /// A flat set's nearest crossing in `(t_min, t_max)` and its slot
+    /// (none for a set that is not flat).
+    #[inline]
+    pub fn flat_crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
+        self.flat.as_ref()?.nearest(ray, t_min, t_max)
+    }
+
+    /// The hit facing `ray` at a crossing `c` of slot `slot` that
+    /// [`PrimitiveSet::flat_crossing`] gave: what
+    /// [`PrimitiveSet::intersect_facing`] returns.
+    #[inline(always)]
+    pub fn flat_hit_at(&self, slot: usize, ray: &Ray, c: &Crossing) -> Hit {
+        let h = self.flat_surface(slot, ray, c);
         let (material, light) = self.ids(slot);
-        Some(facing(h, h.normal, ray.dir, material, light))
+        facing(h, h.normal, ray.dir, material, light)
     }
 
     /// The surface at crossing `c` of a flat set's slot `slot`: the two

@@ -1,14 +1,16 @@
 //! Paths in lanes: the [`BLOCK`] samples of one sampler block of a pixel
-//! traced side by side, bounce by bounce, for scenes of diffuse surfaces
-//! lit by at most one parallelogram light. The
-//! samples of a block share their Sobol' draws slot by slot (one vector
-//! each), so the shading of all eight — light point, shadow segment,
-//! cosine-weighted direction, offsets, Russian roulette — runs as loops
-//! over lanes of the scalar code, which the compiler vectorises; rays are
-//! traced one at a time. Each lane performs exactly the floating-point
-//! operations of [`Tracer::radiance`], so an image is bit-identical to the
-//! scalar integrator's (tests/lanes.rs). Scenes it does not cover
-//! ([`Lanes::new`] says `None`) take the scalar integrator.
+//! traced side by side, bounce by bounce, for scenes of solid-coloured
+//! lambertian surfaces lit by at most one parallelogram light. The samples
+//! of a block share their Sobol' draws slot by slot (one vector each), so
+//! the shading of all eight (light point, shadow segment, cosine-weighted
+//! direction, offsets) runs as loops over lanes of the scalar code, which
+//! the compiler vectorises. Rays are traced one at a time; in a world of
+//! flat faces only (`World::flat_set`), every lane's crossing is found
+//! before any lane's hit is built, so that the eight searches run side by
+//! side. Each lane performs exactly the floating-point operations of
+//! [`Tracer::radiance`], so an image is bit-identical to the scalar
+//! integrator's (tests/lanes.rs). Scenes it does not cover ([`Lanes::new`]
+//! says `None`) take the scalar integrator.
 
 use glam::{Vec2, Vec3};
 
@@ -107,6 +109,7 @@ impl<'a> Lanes<'a> {
     ) -> (Lane<Vec3>, Lane<u32>) {
         sampler.start(x, y, block * BLOCK);
         let world = self.tracer.world;
+        let flat = world.flat_set();
         let scene = self.tracer.scene;
         let mut media = MediumSegments::default();
         let mut alive = live;
@@ -151,13 +154,26 @@ impl<'a> Lanes<'a> {
             // a diffuse surface is shaded in lanes below.
             let mut frame = Frame::default();
             let mut diffuse = [false; WIDTH];
+            // A world of flat faces only: every lane's crossing first, side
+            // by side, then the hits built from them.
+            let mut crossings = [None; WIDTH];
+            if let Some(set) = flat {
+                for i in 0..WIDTH {
+                    if alive[i] {
+                        crossings[i] = set.flat_crossing(&ray[i], 0.0, f32::INFINITY);
+                    }
+                }
+            }
             for i in 0..WIDTH {
                 if !alive[i] {
                     continue;
                 }
                 rays[i] += 1;
-                let Some(hit) = world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media)
-                else {
+                let found = match flat {
+                    Some(set) => crossings[i].map(|(slot, c)| set.flat_hit_at(slot, &ray[i], &c)),
+                    None => world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media),
+                };
+                let Some(hit) = found else {
                     let bg = background(&scene.settings.background, ray[i].dir);
                     radiance[i] += throughput[i] * bg;
                     alive[i] = false;
@@ -202,7 +218,11 @@ impl<'a> Lanes<'a> {
                     let (origin, to) = (s.origin.get(i), s.to.get(i));
                     let shadow = Ray::new(origin, to - origin, ray[i].time);
                     rays[i] += 1;
-                    if !world.occluded(&shadow, 0.0, SHADOW_END, &mut media) {
+                    let blocked = match flat {
+                        Some(set) => set.occluded(&shadow, 0.0, SHADOW_END),
+                        None => world.occluded(&shadow, 0.0, SHADOW_END, &mut media),
+                    };
+                    if !blocked {
                         radiance[i] += throughput[i] * s.f.get(i) * light.emit * s.scale[i];
                     }
                 }
