@@ -19,6 +19,7 @@ use super::integrator::{background, power_heuristic, survival, Tracer, ROULETTE_
 use super::lights::{area_to_solid_angle, Light, LightShape};
 use crate::geometry::medium::MediumSegments;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
+use crate::geometry::shapes::Crossing;
 use crate::geometry::{Hit, Ray};
 use crate::sampling::sampler::BLOCK;
 use crate::sampling::warp::cosine_hemisphere;
@@ -156,11 +157,19 @@ impl<'a> Lanes<'a> {
             let mut diffuse = [false; WIDTH];
             // A world of flat faces only: every lane's crossing first, side
             // by side, then the hits built from them.
-            let mut crossings = [None; WIDTH];
+            // Kept field by field: the crossing comes back in memory, and
+            // copied whole it was read in 16 bytes from the callee's
+            // narrower stores, which the CPU cannot forward.
+            let mut slots = [usize::MAX; WIDTH];
+            let mut ts = [0.0f32; WIDTH];
+            let mut uvs = [Vec2::ZERO; WIDTH];
             if let Some(set) = flat {
                 for i in 0..WIDTH {
-                    if alive[i] {
-                        crossings[i] = set.flat_crossing(&ray[i], 0.0, f32::INFINITY);
+                    if !alive[i] {
+                        continue;
+                    }
+                    if let Some((slot, c)) = set.flat_crossing(&ray[i], 0.0, f32::INFINITY) {
+                        (slots[i], ts[i], uvs[i]) = (slot, c.t, Vec2::new(c.data.x, c.data.y));
                     }
                 }
             }
@@ -170,7 +179,13 @@ impl<'a> Lanes<'a> {
                 }
                 rays[i] += 1;
                 let found = match flat {
-                    Some(set) => crossings[i].map(|(slot, c)| set.flat_hit_at(slot, &ray[i], &c)),
+                    Some(set) => (slots[i] != usize::MAX).then(|| {
+                        let c = Crossing {
+                            t: ts[i],
+                            data: uvs[i].extend(0.0),
+                        };
+                        set.flat_hit_at(slots[i], &ray[i], &c)
+                    }),
                     None => world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media),
                 };
                 let Some(hit) = found else {
