@@ -74,13 +74,29 @@ pub struct Tracer<'a> {
 
 /// How the last scattering chose the current ray's direction.
 #[derive(Clone, Copy)]
-enum Previous {
+pub(super) enum Previous {
     /// A camera ray or a specular bounce: no light sampling competed.
     Specular,
     /// A light-sampled scattering at `point` (surface normal `normal`, zero
     /// in a medium) whose sampling density of the direction (in solid
     /// angle) was `pdf`.
     Scattered { point: Vec3, normal: Vec3, pdf: f32 },
+}
+
+impl Previous {
+    /// The multiple importance sampling weight of emission found at `hit`
+    /// by the ray this scattering chose: against the density with which
+    /// light sampling (`nee`) would have picked the point, 1 when light
+    /// sampling did not compete.
+    #[inline]
+    pub(super) fn emission_weight(self, lights: &LightList, nee: bool, hit: &Hit) -> f32 {
+        match self {
+            Previous::Scattered { point, normal, pdf } if nee => lights
+                .pdf(hit.light, point, normal, hit.point, hit.geo_normal)
+                .map_or(1.0, |light| power_heuristic(pdf, light)),
+            _ => 1.0,
+        }
+    }
 }
 
 /// The power heuristic weight of a strategy with density `a` against `b`,
@@ -172,12 +188,7 @@ impl<'a> Tracer<'a> {
             let sample = bsdf.sample_from(wo, sampler);
             let emitted = bsdf.emitted();
             if emitted != Vec3::ZERO {
-                let weight = match previous {
-                    Previous::Scattered { point, normal, pdf } if nee => lights
-                        .pdf(hit.light, point, normal, hit.point, hit.geo_normal)
-                        .map_or(1.0, |light| power_heuristic(pdf, light)),
-                    _ => 1.0,
-                };
+                let weight = previous.emission_weight(lights, nee, &hit);
                 radiance += throughput * emitted * weight;
             }
             if nee && bsdf.samples_lights() {

@@ -15,8 +15,8 @@
 use glam::{Vec2, Vec3};
 
 use super::camera::CameraRays;
-use super::integrator::{background, power_heuristic, survival, Tracer, ROULETTE_AFTER};
-use super::lights::{area_to_solid_angle, Light, LightShape};
+use super::integrator::{background, power_heuristic, survival, Previous, Tracer, ROULETTE_AFTER};
+use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
 use crate::geometry::medium::MediumSegments;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::shapes::Crossing;
@@ -116,8 +116,7 @@ impl<'a> Lanes<'a> {
         let mut radiance = [Vec3::ZERO; WIDTH];
         let mut throughput = [Vec3::ONE; WIDTH];
         let mut rays = [0u32; WIDTH];
-        // The last scattering of each lane: `None` for the camera ray.
-        let mut previous: Lane<Option<(Vec3, Vec3, f32)>> = [None; WIDTH];
+        let mut previous = [Previous::Specular; WIDTH];
         let none = [[0.0; WIDTH]; 2];
         let film = sampler.block_draws(0, Dim::Camera, 0);
         let camera = self.camera;
@@ -205,14 +204,11 @@ impl<'a> Lanes<'a> {
                             Vec3::ZERO
                         };
                         if emitted != Vec3::ZERO {
-                            let weight = match previous[i] {
-                                Some((point, normal, pdf)) if self.light.is_some() => self
-                                    .tracer
-                                    .lights
-                                    .pdf(hit.light, point, normal, hit.point, hit.geo_normal)
-                                    .map_or(1.0, |light| power_heuristic(pdf, light)),
-                                _ => 1.0,
-                            };
+                            let weight = previous[i].emission_weight(
+                                self.tracer.lights,
+                                self.light.is_some(),
+                                &hit,
+                            );
                             radiance[i] += throughput[i] * emitted * weight;
                         }
                         alive[i] = false;
@@ -246,7 +242,11 @@ impl<'a> Lanes<'a> {
                 if !diffuse[i] {
                     continue;
                 }
-                previous[i] = Some((frame.point.get(i), frame.normal.get(i), s.pdf[i]));
+                previous[i] = Previous::Scattered {
+                    point: frame.point.get(i),
+                    normal: frame.normal.get(i),
+                    pdf: s.pdf[i],
+                };
                 throughput[i] *= frame.albedo.get(i);
                 if depth >= ROULETTE_AFTER {
                     survive[i] = survival(throughput[i], false);
@@ -473,7 +473,7 @@ impl FlatLight {
 
     /// `LightList::sample` of this light with the light-point draws `u`,
     /// the lambertian's `eval_pdf` and the shadow segment of `spawn_to`, in
-    /// every lane, into `out`.
+    /// every lane, into `out`. A density of −1 stands for none.
     #[inline(always)]
     fn sample(&self, frame: &Frame, u: &[Lane<f32>; 2], out: &mut Shaded) {
         let a = self.inv_area as f32;
@@ -483,13 +483,8 @@ impl FlatLight {
             let p = frame.point.get(i);
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
             // `area_to_solid_angle`'s f32 path (its f64 one below).
-            let to = x - p;
-            let d2 = to.length_squared();
-            let d = d2.sqrt();
-            let cos_d = self.normal.dot(to).abs();
-            let fast = a * d2 * d / cos_d;
-            in_range[i] = a >= f32::MIN_POSITIVE && d2 >= f32::MIN_POSITIVE && fast.is_finite();
-            pdf[i] = if cos_d > 1e-7 * d { fast } else { -1.0 };
+            let (fast, fits, seen) = solid_angle_f32(a, x - p, self.normal);
+            (pdf[i], in_range[i]) = (if seen { fast } else { -1.0 }, fits);
         }
         // Rare (a huge light or one very near): the f64 path, lane by lane.
         if in_range.contains(&false) {
@@ -501,12 +496,14 @@ impl FlatLight {
                 frame.normal.get(i),
                 frame.geo_normal.get(i),
             );
+            // The point again: recomputed, it cost less than kept from the
+            // first loop (0.97x the Cornell box's rate kept, with one loop).
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
             let to = x - p;
             let dist = to.length();
             let dir = to / dist;
             let behind = !self.two_sided && self.normal.dot(dir) >= 0.0;
-            let pdf = pdf[i] * 1.0;
+            let pdf = pdf[i];
             // The lambertian's value and density for `dir`.
             let cos = n.dot(dir);
             let scatters = cos > 0.0 && g.dot(dir) > 0.0;
@@ -519,7 +516,7 @@ impl FlatLight {
             out.origin.set(i, origin);
             out.to.set(i, target);
             out.f.set(i, f);
-            out.scale[i] = 1.0 * weight / pdf;
+            out.scale[i] = weight / pdf;
         }
     }
 }

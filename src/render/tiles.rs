@@ -323,6 +323,37 @@ struct TileResult {
     spp_max: u32,
 }
 
+/// One pixel's running totals in a round: the sum of its kept samples,
+/// their count, the samples traced, and the estimate adaptive sampling
+/// reads.
+struct PixelSums {
+    sum: Vec3,
+    kept: u32,
+    traced: u32,
+    estimate: PixelEstimate,
+}
+
+impl PixelSums {
+    /// Adds a traced sample of radiance `l` that took `rays` rays, clamped
+    /// to `clamp`; a NaN or infinite one is dropped and counted in `r`.
+    #[inline]
+    fn add(&mut self, mut l: Vec3, rays: u32, clamp: Option<f32>, r: &mut TileResult) {
+        self.traced += 1;
+        if let Some(c) = clamp {
+            l = clamp_radiance(l, c);
+        }
+        r.rays += rays as u64;
+        r.samples += 1;
+        if l.is_finite() {
+            self.sum += l;
+            self.kept += 1;
+            self.estimate.add(l);
+        } else {
+            r.dropped += 1;
+        }
+    }
+}
+
 impl Job<'_> {
     fn tile(&self, film: &Film, tile: Crop) -> TileResult {
         let n = (tile.width() * tile.height()) as usize;
@@ -341,67 +372,50 @@ impl Job<'_> {
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {
                 let i = film.index(x, y);
-                let (mut sum, mut kept) = (film.sums[i], film.kept[i]);
-                let done = film.taken[i].max(self.target);
-                let mut estimate = PixelEstimate::default();
-                let mut traced = film.taken[i];
-                if let Some(lanes) = self.lanes {
-                    let mut s = film.taken[i];
-                    while s < self.target {
-                        let index = self.first + s;
-                        let lane0 = (index % BLOCK) as usize;
-                        let count = (BLOCK as usize - lane0).min((self.target - s) as usize);
-                        let live = std::array::from_fn(|l| l >= lane0 && l < lane0 + count);
-                        let (ls, rs) = lanes.block(&mut sampler, (x, y), index / BLOCK, live);
-                        for (mut l, rays) in ls.into_iter().zip(rs).skip(lane0).take(count) {
-                            traced += 1;
-                            if let Some(c) = self.clamp {
-                                l = clamp_radiance(l, c);
-                            }
-                            r.rays += rays as u64;
-                            r.samples += 1;
-                            if l.is_finite() {
-                                sum += l;
-                                kept += 1;
-                            } else {
-                                r.dropped += 1;
-                            }
-                        }
-                        s += count as u32;
-                    }
-                }
-                let start = if self.lanes.is_some() {
-                    self.target
-                } else {
-                    film.taken[i]
+                let mut px = PixelSums {
+                    sum: film.sums[i],
+                    kept: film.kept[i],
+                    traced: film.taken[i],
+                    estimate: PixelEstimate::default(),
                 };
-                for s in start..self.target {
-                    if let Some(goal) = self.noise {
-                        if is_round_end(s) && estimate.relative_error() < f64::from(goal) {
-                            break;
+                let done = film.taken[i].max(self.target);
+                match self.lanes {
+                    Some(lanes) => {
+                        let mut s = film.taken[i];
+                        while s < self.target {
+                            let index = self.first + s;
+                            let lane0 = (index % BLOCK) as usize;
+                            let count = (BLOCK as usize - lane0).min((self.target - s) as usize);
+                            let live = std::array::from_fn(|l| l >= lane0 && l < lane0 + count);
+                            let (ls, rs) = lanes.block(&mut sampler, (x, y), index / BLOCK, live);
+                            for (l, rays) in ls.into_iter().zip(rs).skip(lane0).take(count) {
+                                px.add(l, rays, self.clamp, &mut r);
+                            }
+                            s += count as u32;
                         }
                     }
-                    traced += 1;
-                    let (mut l, rays) =
-                        self.tracer
-                            .sample(self.camera, &mut sampler, (x, y), self.first + s);
-                    if let Some(c) = self.clamp {
-                        l = clamp_radiance(l, c);
-                    }
-                    r.rays += rays as u64;
-                    r.samples += 1;
-                    if l.is_finite() {
-                        sum += l;
-                        kept += 1;
-                        estimate.add(l);
-                    } else {
-                        r.dropped += 1;
+                    None => {
+                        for s in film.taken[i]..self.target {
+                            if let Some(goal) = self.noise {
+                                if is_round_end(s) && px.estimate.relative_error() < f64::from(goal)
+                                {
+                                    break;
+                                }
+                            }
+                            let (l, rays) = self.tracer.sample(
+                                self.camera,
+                                &mut sampler,
+                                (x, y),
+                                self.first + s,
+                            );
+                            px.add(l, rays, self.clamp, &mut r);
+                        }
                     }
                 }
-                r.spp_min = r.spp_min.min(traced);
-                r.spp_max = r.spp_max.max(traced);
-                r.sums.push(sum);
-                r.kept.push(kept);
+                r.spp_min = r.spp_min.min(px.traced);
+                r.spp_max = r.spp_max.max(px.traced);
+                r.sums.push(px.sum);
+                r.kept.push(px.kept);
                 r.taken.push(done);
             }
         }

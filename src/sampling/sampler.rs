@@ -203,13 +203,22 @@ impl Sampler {
     /// draws are not kept.
     #[inline]
     fn kept(&mut self, slot: u32) -> Option<Vec2> {
+        let lane = (self.index % BLOCK) as usize;
+        let draws = self.kept_block(slot)?;
+        Some(Vec2::new(draws[0][lane], draws[1][lane]))
+    }
+
+    /// The kept draws of `slot` for the current sample's block (computed
+    /// first if they are another block's), or `None` for a slot whose
+    /// draws are not kept.
+    #[inline]
+    fn kept_block(&mut self, slot: u32) -> Option<&[[f32; sobol::LANES]; 2]> {
         let (pixel, block) = (self.pixel, self.index / BLOCK);
         let kept = self.blocks.get_mut(slot as usize)?;
         if kept.pixel != pixel || kept.block != block {
             kept.fill(pixel, block, slot);
         }
-        let lane = (self.index % BLOCK) as usize;
-        Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
+        Some(&kept.draws)
     }
 
     /// The Sobol' draws of the first slot of `dim` in bounce `bounce`, plus
@@ -227,16 +236,10 @@ impl Sampler {
     ) -> [[f32; BLOCK as usize]; 2] {
         self.bounce = bounce;
         let slot = self.slot_of(dim) + offset;
-        let (pixel, block) = (self.pixel, self.index / BLOCK);
-        match self.blocks.get_mut(slot as usize) {
-            Some(kept) => {
-                if kept.pixel != pixel || kept.block != block {
-                    kept.fill(pixel, block, slot);
-                }
-                kept.draws
-            }
-            None => sobol::points8(block * BLOCK, slot_seeds(pixel, slot)),
+        if let Some(draws) = self.kept_block(slot) {
+            return *draws;
         }
+        sobol::points8((self.index / BLOCK) * BLOCK, slot_seeds(self.pixel, slot))
     }
 
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
