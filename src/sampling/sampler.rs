@@ -187,11 +187,10 @@ impl Sampler {
 
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
     pub fn start(&mut self, x: u32, y: u32, index: u32) {
-        let pixel = ((y as u64) << 32) | x as u64;
         if self.kind == SamplerKind::Independent {
             self.rng = Rng::for_sample(self.seed, x, y, index);
         }
-        self.pixel = mix(self.seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d));
+        self.pixel = self.pixel_seeds(x, y).0;
         self.index = index;
         self.bounce = 0;
         self.slot = 0;
@@ -203,43 +202,21 @@ impl Sampler {
     /// draws are not kept.
     #[inline]
     fn kept(&mut self, slot: u32) -> Option<Vec2> {
-        let lane = (self.index % BLOCK) as usize;
-        let draws = self.kept_block(slot)?;
-        Some(Vec2::new(draws[0][lane], draws[1][lane]))
-    }
-
-    /// The kept draws of `slot` for the current sample's block (computed
-    /// first if they are another block's), or `None` for a slot whose
-    /// draws are not kept.
-    #[inline]
-    fn kept_block(&mut self, slot: u32) -> Option<&[[f32; sobol::LANES]; 2]> {
         let (pixel, block) = (self.pixel, self.index / BLOCK);
         let kept = self.blocks.get_mut(slot as usize)?;
         if kept.pixel != pixel || kept.block != block {
             kept.fill(pixel, block, slot);
         }
-        Some(&kept.draws)
+        let lane = (self.index % BLOCK) as usize;
+        Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 
-    /// The Sobol' draws of the first slot of `dim` in bounce `bounce`, plus
-    /// `offset`, for the [`BLOCK`] samples of the current sample's block:
-    /// lane `i` holds sample `block · BLOCK + i`'s draw, its two numbers in
-    /// rows 0 and 1 (a 1-D draw is row 0). They are the numbers
-    /// [`Sampler::next_2d`] and [`Sampler::next_1d`] give each sample at
-    /// that slot.
+    /// The root of pixel `(x, y)`'s scramble seeds under this sampler's
+    /// seed.
     #[inline]
-    pub fn block_draws(
-        &mut self,
-        bounce: u32,
-        dim: Dim,
-        offset: u32,
-    ) -> [[f32; BLOCK as usize]; 2] {
-        self.bounce = bounce;
-        let slot = self.slot_of(dim) + offset;
-        if let Some(draws) = self.kept_block(slot) {
-            return *draws;
-        }
-        sobol::points8((self.index / BLOCK) * BLOCK, slot_seeds(self.pixel, slot))
+    pub fn pixel_seeds(&self, x: u32, y: u32) -> PixelSeeds {
+        let pixel = ((y as u64) << 32) | x as u64;
+        PixelSeeds(mix(self.seed ^ mix(pixel ^ 0x2545_f491_4f6c_dd1d)))
     }
 
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
@@ -257,17 +234,7 @@ impl Sampler {
     /// The first slot of `dim` in the current bounce.
     #[inline]
     fn slot_of(&self, dim: Dim) -> u32 {
-        let bounce = CAMERA_SLOTS.saturating_add(self.bounce.saturating_mul(BOUNCE_SLOTS));
-        match dim {
-            Dim::Camera => 0,
-            Dim::Light => bounce,
-            Dim::Bsdf => bounce + 2,
-            Dim::Roulette => bounce + 4,
-            Dim::Medium(0) => bounce + 5,
-            Dim::Medium(k) => EXTRA_SLOTS
-                .wrapping_add(self.bounce.wrapping_mul(1 << 16))
-                .wrapping_add(k),
-        }
+        slot_in(self.bounce, dim)
     }
 
     /// Makes now the 2-D draw of the first slot of `dim` in the current
@@ -363,6 +330,37 @@ impl Sampler {
                 v
             }
         }
+    }
+}
+
+/// The root of one pixel's scramble seeds ([`Sampler::pixel_seeds`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelSeeds(u64);
+
+impl PixelSeeds {
+    /// The scramble seeds of the first slot of `dim` in bounce `bounce`
+    /// plus `offset`: with them, sample `i`'s draw at that slot is
+    /// `sobol::point2(i, seeds)` (as 24-bit fractions), the numbers
+    /// [`Sampler::next_2d`] and [`Sampler::next_1d`] give it there.
+    #[inline]
+    pub fn slot(self, bounce: u32, dim: Dim, offset: u32) -> [u32; 3] {
+        slot_seeds(self.0, slot_in(bounce, dim) + offset)
+    }
+}
+
+/// The first slot of `dim` in bounce `bounce`.
+#[inline]
+fn slot_in(bounce: u32, dim: Dim) -> u32 {
+    let first = CAMERA_SLOTS.saturating_add(bounce.saturating_mul(BOUNCE_SLOTS));
+    match dim {
+        Dim::Camera => 0,
+        Dim::Light => first,
+        Dim::Bsdf => first + 2,
+        Dim::Roulette => first + 4,
+        Dim::Medium(0) => first + 5,
+        Dim::Medium(k) => EXTRA_SLOTS
+            .wrapping_add(bounce.wrapping_mul(1 << 16))
+            .wrapping_add(k),
     }
 }
 
@@ -473,6 +471,45 @@ mod tests {
                 if kind == SamplerKind::Sobol {
                     assert_ne!(a.0.x, a.3);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn a_pixels_seeds_give_the_numbers_the_sampler_draws() {
+        // Kept slots (the camera's, bounce 3's) and drawn-alone ones
+        // (bounce 40's), 2-D and 1-D, one-off samplers and a reused one.
+        let mut reused = Sampler::new(SamplerKind::Sobol, 11);
+        for (x, y, index) in [(0, 0, 0), (5, 9, 13), (640, 3, 1000)] {
+            for (bounce, dim, offset) in [
+                (0, Dim::Camera, 0),
+                (0, Dim::Camera, 2),
+                (3, Dim::Light, 1),
+                (3, Dim::Roulette, 0),
+                (40, Dim::Bsdf, 0),
+            ] {
+                let seeds = reused.pixel_seeds(x, y).slot(bounce, dim, offset);
+                let (a, b) = sobol::point2(index, seeds);
+                let want = Vec2::new(sobol::to_unit(a), sobol::to_unit(b));
+                for s in [
+                    &mut Sampler::for_sample(SamplerKind::Sobol, 11, x, y, index),
+                    &mut reused,
+                ] {
+                    s.start(x, y, index);
+                    s.start_bounce(bounce);
+                    s.begin(dim);
+                    for _ in 0..offset {
+                        s.next_1d();
+                    }
+                    assert_eq!(s.next_2d(), want, "({x}, {y}) #{index} {dim:?}+{offset}");
+                }
+                reused.start(x, y, index);
+                reused.start_bounce(bounce);
+                reused.begin(dim);
+                for _ in 0..offset {
+                    reused.next_1d();
+                }
+                assert_eq!(reused.next_1d(), want.x);
             }
         }
     }
