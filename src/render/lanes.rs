@@ -22,7 +22,7 @@ use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::shapes::Crossing;
 use crate::geometry::{Hit, Ray};
 use crate::sampling::sampler::BLOCK;
-use crate::sampling::sobol::{points8_each, Shuffled};
+use crate::sampling::sobol8::{points8_each, Shuffled};
 use crate::sampling::warp::cosine_hemisphere;
 use crate::sampling::{Dim, Sampler};
 use crate::scene::{Material, Texture};

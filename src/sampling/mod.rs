@@ -5,6 +5,7 @@
 pub mod rng;
 pub mod sampler;
 pub mod sobol;
+pub mod sobol8;
 pub mod warp;
 
 pub use rng::Rng;

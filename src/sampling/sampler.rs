@@ -23,7 +23,7 @@
 use glam::Vec2;
 
 use super::rng::{mix, Rng};
-use super::sobol;
+use super::{sobol, sobol8};
 
 /// Which sampler renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -70,7 +70,7 @@ const EXTRA_SLOTS: u32 = 1 << 31;
 
 /// Samples whose draws a reusable sampler computes together (an aligned
 /// block of indices): one vector lane each.
-pub const BLOCK: u32 = sobol::LANES as u32;
+pub const BLOCK: u32 = sobol8::LANES as u32;
 
 /// Slots whose draws a reusable sampler keeps a [`BLOCK`] at a time: the
 /// camera's and those of the first ten bounces. Deeper slots, which few
@@ -81,7 +81,7 @@ const CACHED_SLOTS: usize = (CAMERA_SLOTS + 10 * BOUNCE_SLOTS) as usize;
 /// by [`Sampler::new`] moves from sample to sample with [`Sampler::start`]
 /// and keeps, for each of its first slots, the Sobol' draws of the eight
 /// samples (an aligned block of indices) the current one belongs to: they
-/// are computed together in vector lanes ([`sobol::points8`]) when the
+/// are computed together in vector lanes ([`sobol8::points8`]) when the
 /// first of them asks, and are the same numbers one at a time would be.
 #[derive(Clone, Debug)]
 pub struct Sampler {
@@ -110,7 +110,7 @@ pub struct Sampler {
 struct Block {
     pixel: u64,
     block: u32,
-    draws: [[f32; sobol::LANES]; 2],
+    draws: [[f32; sobol8::LANES]; 2],
 }
 
 impl Block {
@@ -121,7 +121,7 @@ impl Block {
         *self = Block {
             pixel,
             block,
-            draws: sobol::points8(block * BLOCK, slot_seeds(pixel, slot)),
+            draws: sobol8::points8(block * BLOCK, slot_seeds(pixel, slot)),
         };
     }
 
@@ -129,7 +129,7 @@ impl Block {
     const NONE: Block = Block {
         pixel: 0,
         block: u32::MAX,
-        draws: [[0.0; sobol::LANES]; 2],
+        draws: [[0.0; sobol8::LANES]; 2],
     };
 }
 
