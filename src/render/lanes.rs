@@ -21,10 +21,10 @@ use crate::geometry::medium::MediumSegments;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::shapes::Crossing;
 use crate::geometry::{Hit, Ray};
-use crate::sampling::sampler::BLOCK;
+use crate::sampling::sampler::{PixelSeeds, BLOCK};
 use crate::sampling::sobol8::{points8_each, Shuffled};
 use crate::sampling::warp::cosine_hemisphere;
-use crate::sampling::{Dim, Sampler};
+use crate::sampling::Dim;
 use crate::scene::{Material, Texture};
 
 /// Samples traced side by side: one sampler block.
@@ -98,17 +98,17 @@ impl<'a> Lanes<'a> {
         })
     }
 
-    /// The radiance and rays of the samples of pixel `(x, y)` in sampler
+    /// The radiance and rays of the samples of pixel `(x, y)`, whose
+    /// scramble seeds `root` gives (`Sampler::pixel_seeds`), in sampler
     /// block `block` whose lanes `live` flags, as [`Tracer::sample`] gives
     /// each (other lanes come out zero).
     pub fn block(
         &self,
-        sampler: &Sampler,
+        root: PixelSeeds,
         (x, y): (u32, u32),
         block: u32,
         live: Lane<bool>,
     ) -> (Lane<Vec3>, Lane<u32>) {
-        let root = sampler.pixel_seeds(x, y);
         let index = std::array::from_fn(|l| block * BLOCK + l as u32);
         // A slot's draws for the block: lane `l` holds sample
         // `block · BLOCK + l`'s, as the sampler gives it one at a time.
@@ -122,21 +122,12 @@ impl<'a> Lanes<'a> {
         let mut throughput = [Vec3::ONE; WIDTH];
         let mut rays = [0u32; WIDTH];
         let mut previous = [Previous::Specular; WIDTH];
-        let none = [[0.0; WIDTH]; 2];
         let camera = self.camera;
-        let (film, lens, time) = match camera.has_lens() || camera.has_shutter() {
-            true => {
-                let [film, lens, time] =
-                    points8_each(&index, &[0, 1, 2].map(|k| broadcast(0, Dim::Camera, k)));
-                (film, lens, time[0])
-            }
-            false => (
-                points8_each(&index, &[broadcast(0, Dim::Camera, 0)])[0],
-                none,
-                none[0],
-            ),
-        };
-        let mut ray = camera_rays(camera, (x, y), &[film, lens], &time);
+        // The camera's three slots in one pass (without a lens or a shutter,
+        // `CameraRays::ray_from` ignores their draws).
+        let [film, lens, time] =
+            points8_each(&index, &[0, 1, 2].map(|k| broadcast(0, Dim::Camera, k)));
+        let mut ray = camera_rays(camera, (x, y), &[film, lens], &time[0]);
         // Each bounce's draws (light point, direction, roulette) in their
         // two steps: the index shuffles, then the points.
         let bounce_seeds = |depth| {
@@ -160,12 +151,12 @@ impl<'a> Lanes<'a> {
             // gained). A draw is wasted when no live lane needs it. The
             // three are one pass, which also makes the next bounce's index
             // shuffles, so that every chain of multiplications in it runs
-            // beside the others: 1.05x the rate of three passes of both
+            // beside the others: 1.035x the rate of three passes of both
             // steps each (docs/performance.md, session 21).
             let next = bounce_seeds(depth + 1);
             let [light, bsdf, roulette];
             ([light, bsdf, roulette], shuffled) =
-                shuffled.points(&now.map(|s| [s[1], s[2]]), &index, &next.map(|s| s[0]));
+                shuffled.points(&now.map(|s| [s[1], s[2]]), &next.map(|s| s[0]));
             now = next;
             let u = Draws { light, bsdf };
             let roulette = roulette[0];

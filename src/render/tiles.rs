@@ -381,13 +381,14 @@ impl Job<'_> {
                 let done = film.taken[i].max(self.target);
                 match self.lanes {
                     Some(lanes) => {
+                        let root = sampler.pixel_seeds(x, y);
                         let mut s = film.taken[i];
                         while s < self.target {
                             let index = self.first + s;
                             let lane0 = (index % BLOCK) as usize;
                             let count = (BLOCK as usize - lane0).min((self.target - s) as usize);
                             let live = std::array::from_fn(|l| l >= lane0 && l < lane0 + count);
-                            let (ls, rs) = lanes.block(&sampler, (x, y), index / BLOCK, live);
+                            let (ls, rs) = lanes.block(root, (x, y), index / BLOCK, live);
                             for (l, rays) in ls.into_iter().zip(rs).skip(lane0).take(count) {
                                 px.add(l, rays, self.clamp, &mut r);
                             }

@@ -58,11 +58,17 @@ fn upward_mix_all<const R: usize, const K: usize>(
     }
 }
 
-/// The index shuffles of [`point2`](super::sobol::point2) for `K` slots (their first seeds,
-/// per lane) of sample `index[l]` in each lane `l`: the first of its two
-/// steps, which [`Shuffled::points`] finishes.
+/// The index shuffles of [`point2`] for `K` slots (their first seeds, per
+/// lane) of sample `index[l]` in each lane `l`: the first of its two steps,
+/// which [`Shuffled::points`] finishes.
+///
+/// [`point2`]: super::sobol::point2
 #[derive(Clone, Copy, Debug)]
-pub struct Shuffled<const K: usize>([Lanes32; K]);
+pub struct Shuffled<const K: usize> {
+    /// The samples, one per lane.
+    index: Lanes32,
+    shuffles: [Lanes32; K],
+}
 
 /// The shuffles' inputs: each lane's index, bits reversed.
 #[inline(always)]
@@ -81,7 +87,10 @@ fn reversed_index<const K: usize>(index: &Lanes32) -> [Lanes32; K] {
 fn shuffles<const K: usize>(index: &Lanes32, seeds0: &[Lanes32; K]) -> Shuffled<K> {
     let mut x = [reversed_index(index)];
     upward_mix_all(&mut x, &[*seeds0]);
-    Shuffled(x[0])
+    Shuffled {
+        index: *index,
+        shuffles: x[0],
+    }
 }
 
 /// The inputs of both coordinates' scrambles (rows 0 and 1) of the slots'
@@ -89,7 +98,7 @@ fn shuffles<const K: usize>(index: &Lanes32, seeds0: &[Lanes32; K]) -> Shuffled<
 #[inline(always)]
 fn coordinate_rows<const K: usize>(shuffled: &Shuffled<K>) -> [[Lanes32; K]; 2] {
     let mut rows = [[[0; LANES]; K]; 2];
-    for (k, shuffled) in shuffled.0.iter().enumerate() {
+    for (k, shuffled) in shuffled.shuffles.iter().enumerate() {
         for (l, s) in shuffled.iter().enumerate() {
             let i = s.reverse_bits();
             rows[0][k][l] = i;
@@ -114,27 +123,30 @@ fn to_points<const K: usize>(x: &[Lanes32; K], y: &[Lanes32; K]) -> [[[f32; LANE
 }
 
 /// The points of the shuffled indices `shuffled` under each slot's other
-/// two seeds, and, in the same pass, the shuffles of `index` under the
-/// first seeds `next0` of the next `K` slots. Both steps' multiplies
+/// two seeds, and, in the same pass, the shuffles of the same samples under
+/// the first seeds `next0` of the next `K` slots. Both steps' multiplies
 /// interleave, so one pass costs one chain of dependent multiplications
 /// instead of two in a row.
 #[inline(always)]
 fn points_and_next<const K: usize>(
     shuffled: &Shuffled<K>,
     seeds: &[[Lanes32; 2]; K],
-    index: &Lanes32,
     next0: &[Lanes32; K],
 ) -> ([[[f32; LANES]; 2]; K], Shuffled<K>) {
     // Row 0: first coordinates; row 1: second ones; row 2: next shuffles.
     let [x, y] = coordinate_rows(shuffled);
-    let mut rows = [x, y, reversed_index(index)];
+    let mut rows = [x, y, reversed_index(&shuffled.index)];
     let row_seeds = [seeds.map(|s| s[0]), seeds.map(|s| s[1]), *next0];
     upward_mix_all(&mut rows, &row_seeds);
-    (to_points(&rows[0], &rows[1]), Shuffled(rows[2]))
+    let next = Shuffled {
+        index: shuffled.index,
+        shuffles: rows[2],
+    };
+    (to_points(&rows[0], &rows[1]), next)
 }
 
-/// [`point2`](super::sobol::point2) for `K` slots (seeds per lane) of sample `index[l]` in each
-/// lane `l`, as 24-bit fractions in [0, 1): the same numbers as 8 · `K`
+/// [`point2`](super::sobol::point2) for `K` slots (seeds per lane) of
+/// sample `index[l]` in each lane `l`, as 24-bit fractions in [0, 1): the same numbers as 8 · `K`
 /// calls, computed side by side. The table lookups of the scalar path
 /// become the shift-and-mask form of dimension 1, which vectorises.
 ///
@@ -198,10 +210,9 @@ unsafe fn shuffles_avx2<const K: usize>(index: &Lanes32, seeds0: &[Lanes32; K]) 
 unsafe fn points_and_next_avx2<const K: usize>(
     shuffled: &Shuffled<K>,
     seeds: &[[Lanes32; 2]; K],
-    index: &Lanes32,
     next0: &[Lanes32; K],
 ) -> ([[[f32; LANES]; 2]; K], Shuffled<K>) {
-    points_and_next(shuffled, seeds, index, next0)
+    points_and_next(shuffled, seeds, next0)
 }
 
 impl<const K: usize> Shuffled<K> {
@@ -226,15 +237,14 @@ impl<const K: usize> Shuffled<K> {
     pub fn points(
         &self,
         seeds: &[[Lanes32; 2]; K],
-        index: &Lanes32,
         next0: &[Lanes32; K],
     ) -> ([[[f32; LANES]; 2]; K], Shuffled<K>) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2.
-            return unsafe { points_and_next_avx2(self, seeds, index, next0) };
+            return unsafe { points_and_next_avx2(self, seeds, next0) };
         }
-        points_and_next(self, seeds, index, next0)
+        points_and_next(self, seeds, next0)
     }
 }
 
@@ -298,8 +308,7 @@ mod tests {
         for bounce in 0..3 {
             let (now, next) = (seeds_of(bounce), seeds_of(bounce + 1));
             let points;
-            (points, shuffled) =
-                shuffled.points(&now.map(|s| [s[1], s[2]]), &index, &next.map(|s| s[0]));
+            (points, shuffled) = shuffled.points(&now.map(|s| [s[1], s[2]]), &next.map(|s| s[0]));
             for (k, [x, y]) in points.into_iter().enumerate() {
                 for l in 0..LANES {
                     let (a, b) = point2(index[l], [now[k][0][l], now[k][1][l], now[k][2][l]]);
