@@ -5,7 +5,7 @@
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::flat::FlatFaces;
+use super::flat::{FlatFaces, Hits8, Nearest8, RAYS};
 use super::hit::facing;
 use super::leaf::{slots, Packs, SphereLeaf};
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
@@ -240,6 +240,23 @@ impl PrimitiveSet {
         self.flat.as_ref()?.nearest(ray, t_min, t_max)
     }
 
+    /// [`PrimitiveSet::flat_crossing`] for eight rays at once (none for a
+    /// set that is not flat).
+    #[inline]
+    pub fn flat_crossings8(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Option<Nearest8> {
+        Some(self.flat.as_ref()?.nearest8(rays, t_min, t_max))
+    }
+
+    /// The hits of eight rays at crossings `near` that
+    /// [`PrimitiveSet::flat_crossings8`] gave, written into `out`:
+    /// [`PrimitiveSet::flat_hit_at`]'s points, error bounds and normals,
+    /// lane by lane. False for a set that is not flat or a CPU without
+    /// AVX2.
+    #[inline]
+    pub fn flat_hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) -> bool {
+        self.flat.as_ref().is_some_and(|f| f.hits8(rays, near, out))
+    }
+
     /// The hit facing `ray` at a crossing `c` of slot `slot` that
     /// [`PrimitiveSet::flat_crossing`] gave: what
     /// [`PrimitiveSet::intersect_facing`] returns.
@@ -273,7 +290,7 @@ impl PrimitiveSet {
 
     /// Slot `slot`'s material and light id.
     #[inline(always)]
-    fn ids(&self, slot: usize) -> (MaterialId, LightId) {
+    pub fn ids(&self, slot: usize) -> (MaterialId, LightId) {
         let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
         (self.materials[slot], light)
     }

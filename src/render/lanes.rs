@@ -17,7 +17,9 @@ use glam::{Vec2, Vec3};
 use super::camera::CameraRays;
 use super::integrator::{background, power_heuristic, survival, Previous, Tracer, ROULETTE_AFTER};
 use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
+use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::medium::MediumSegments;
+use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::shapes::Crossing;
 use crate::geometry::{Hit, Ray};
@@ -31,6 +33,13 @@ use crate::scene::{Material, Texture};
 pub const WIDTH: usize = BLOCK as usize;
 
 type Lane<T> = [T; WIDTH];
+
+/// Live lanes from which a flat set's crossings are found eight rays to a
+/// pass rather than a ray at a time: with fewer, the eight-ray passes'
+/// dead lanes cost more than the one-ray passes' reductions (3 to 7 live
+/// lanes ran within 1 % of each other on the Cornell box; the one-ray
+/// passes only, 0.97x; docs/performance.md, session 22).
+const SIDE_BY_SIDE: usize = 5;
 
 /// How a material scatters, as the lanes know it.
 #[derive(Clone, Copy, Debug)]
@@ -165,50 +174,55 @@ impl<'a> Lanes<'a> {
             let mut frame = Frame::default();
             let mut diffuse = [false; WIDTH];
             // A world of flat faces only: every lane's crossing first, side
-            // by side, then the hits built from them. The crossings are kept
-            // field by field: one comes back in memory, and copied whole it
-            // was read in 16 bytes from the callee's narrower stores, which
-            // the CPU cannot forward (1.027x the Cornell box's rate).
-            let mut slots = [usize::MAX; WIDTH];
-            let mut ts = [0.0f32; WIDTH];
-            let mut uvs = [Vec2::ZERO; WIDTH];
-            if let Some(set) = flat {
-                for i in 0..WIDTH {
-                    if !alive[i] {
-                        continue;
-                    }
-                    if let Some((slot, c)) = set.flat_crossing(&ray[i], 0.0, f32::INFINITY) {
-                        (slots[i], ts[i], uvs[i]) = (slot, c.t, Vec2::new(c.data.x, c.data.y));
-                    }
-                }
-            }
+            // by side, then their hits, side by side; a lane's material
+            // comes from its face's slot, and only a lane that met a light
+            // builds its whole hit.
+            let mut side_by_side = Hits8::default();
+            let flat_hits = flat.map(|set| {
+                let near = crossings(set, &ray, &alive);
+                let built = set.flat_hits8(&ray, &near, &mut side_by_side);
+                (set, near, built)
+            });
             for i in 0..WIDTH {
                 if !alive[i] {
                     continue;
                 }
                 rays[i] += 1;
-                let found = match flat {
-                    Some(set) => (slots[i] != usize::MAX).then(|| {
-                        let c = Crossing {
-                            t: ts[i],
-                            data: uvs[i].extend(0.0),
-                        };
-                        set.flat_hit_at(slots[i], &ray[i], &c)
-                    }),
-                    None => world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media),
+                let (material, hit) = match &flat_hits {
+                    Some((set, near, built)) => match near.slot[i] {
+                        u32::MAX => (None, None),
+                        slot if *built => (Some(set.ids(slot as usize).0), None),
+                        slot => {
+                            let h = flat_hit(set, near, i, &ray[i]);
+                            debug_assert_eq!(h.material, set.ids(slot as usize).0);
+                            (Some(h.material), Some(h))
+                        }
+                    },
+                    None => match world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media)
+                    {
+                        Some(h) => (Some(h.material), Some(h)),
+                        None => (None, None),
+                    },
                 };
-                let Some(hit) = found else {
+                let Some(material) = material else {
                     let bg = background(&scene.settings.background, ray[i].dir);
                     radiance[i] += throughput[i] * bg;
                     alive[i] = false;
                     continue;
                 };
-                match self.surfaces[hit.material.0 as usize] {
+                match self.surfaces[material.0 as usize] {
                     Surface::Diffuse(albedo) => {
                         diffuse[i] = true;
-                        frame.set(i, &hit, albedo);
+                        frame.albedo.set(i, albedo);
+                        if let Some(hit) = &hit {
+                            frame.set(i, hit);
+                        }
                     }
                     Surface::Emitter { emit, two_sided } => {
+                        let hit = hit.unwrap_or_else(|| {
+                            let (set, near, _) = flat_hits.as_ref().expect("a flat set's lane");
+                            flat_hit(set, near, i, &ray[i])
+                        });
                         let emitted = if hit.front_face || two_sided {
                             emit
                         } else {
@@ -225,6 +239,9 @@ impl<'a> Lanes<'a> {
                         alive[i] = false;
                     }
                 }
+            }
+            if let Some((_, _, true)) = &flat_hits {
+                frame.set_all(&side_by_side);
             }
             if !diffuse.contains(&true) {
                 break;
@@ -314,12 +331,26 @@ struct Frame {
 
 impl Frame {
     #[inline(always)]
-    fn set(&mut self, i: usize, hit: &Hit, albedo: Vec3) {
+    fn set(&mut self, i: usize, hit: &Hit) {
         self.point.set(i, hit.point);
         self.error.set(i, hit.error);
         self.geo_normal.set(i, hit.geo_normal);
         self.normal.set(i, hit.normal);
-        self.albedo.set(i, albedo);
+    }
+
+    /// Every lane's point, error bound and normals from hits on flat faces
+    /// (whose geometric and shading normals are one).
+    #[inline(always)]
+    fn set_all(&mut self, h: &Hits8) {
+        let lanes = |v: &[Lane<f32>; 3]| Lanes3 {
+            x: v[0],
+            y: v[1],
+            z: v[2],
+        };
+        self.point = lanes(&h.point);
+        self.error = lanes(&h.error);
+        self.geo_normal = lanes(&h.normal);
+        self.normal = lanes(&h.normal);
     }
 }
 
@@ -530,4 +561,35 @@ impl FlatLight {
             out.scale[i] = weight / pdf;
         }
     }
+}
+
+/// Each live lane's nearest crossing in a flat set: side by side when at
+/// least [`SIDE_BY_SIDE`] lanes live, else one lane's pass at a time.
+fn crossings(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Nearest8 {
+    if alive.iter().filter(|&&a| a).count() >= SIDE_BY_SIDE {
+        return set
+            .flat_crossings8(ray, 0.0, f32::INFINITY)
+            .expect("a flat set");
+    }
+    let mut near = Nearest8::NONE;
+    for i in 0..WIDTH {
+        if !alive[i] {
+            continue;
+        }
+        if let Some((slot, c)) = set.flat_crossing(&ray[i], 0.0, f32::INFINITY) {
+            (near.slot[i], near.t[i], near.u[i], near.v[i]) =
+                (slot as u32, c.t, c.data.x, c.data.y);
+        }
+    }
+    near
+}
+
+/// Lane `i`'s whole hit at its crossing `near` on a flat set.
+#[inline(always)]
+fn flat_hit(set: &PrimitiveSet, near: &Nearest8, i: usize, ray: &Ray) -> Hit {
+    let at = Crossing {
+        t: near.t[i],
+        data: Vec3::new(near.u[i], near.v[i], 0.0),
+    };
+    set.flat_hit_at(near.slot[i] as usize, ray, &at)
 }

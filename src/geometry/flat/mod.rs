@@ -24,6 +24,10 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;
+#[cfg(target_arch = "x86_64")]
+mod avx8;
+mod hits8;
+mod rays8;
 mod wide;
 
 use super::primitives::Primitive;
@@ -32,6 +36,8 @@ use super::Ray;
 #[cfg(target_arch = "x86_64")]
 use avx512::{avx512, Lanes16};
 use glam::Vec3;
+pub use hits8::Hits8;
+pub use rays8::{Nearest8, RAYS};
 use wide::{Lanes8, Wide};
 
 /// Most faces a set may hold to be tested in passes rather than walked:
@@ -92,6 +98,7 @@ impl<W: Wide> RayLanes<W> {
 
 /// The nearest crossing so far in each lane: distance, slot, and a
 /// parallelogram's `(u, v)`.
+#[derive(Clone)]
 struct Best<W> {
     t: W,
     /// Slots as the bits of floats, so that they blend like the rest.
@@ -101,6 +108,23 @@ struct Best<W> {
 }
 
 impl<W: Wide> Best<W> {
+    /// Takes `other`'s crossing in each lane where it is nearer, or as
+    /// near with a lower slot (a lane without one has slot bits that are a
+    /// NaN, which no comparison takes; a real slot's bits are a subnormal,
+    /// which compare as their integers).
+    #[inline(always)]
+    fn nearest_of(&mut self, other: &Best<W>) {
+        let take = self.beaten_by(other.t, other.slot);
+        self.keep(take, other.t, other.slot, other.u, other.v);
+    }
+
+    /// The lanes where a crossing at `t` of a face at `slot` is nearer
+    /// than the best, or as near with a lower slot.
+    #[inline(always)]
+    fn beaten_by(&self, t: W, slot: W) -> W::Mask {
+        t.lt(self.t) | (t.eq(self.t) & slot.lt(self.slot))
+    }
+
     #[inline(always)]
     fn keep(&mut self, take: W::Mask, t: W, slot: W, u: W, v: W) {
         self.t = W::select(take, t, self.t);
@@ -177,9 +201,14 @@ fn within_unit<W: Wide>(u: W, v: W) -> W::Mask {
 }
 
 /// The faces of a primitive set in packs of one kind, in slot order, as
-/// wide as the CPU runs best.
+/// wide as the CPU runs best, for one ray at a time; and one face to a pass
+/// for eight rays at a time ([`rays8`]).
 #[derive(Debug)]
-pub struct FlatFaces(Width);
+pub struct FlatFaces {
+    packs: Width,
+    each: rays8::Each,
+    faces: hits8::Faces,
+}
 
 /// Packs of sixteen lanes with AVX-512F, else of eight.
 #[derive(Debug)]
@@ -202,16 +231,24 @@ impl FlatFaces {
     /// parallelogram and there are at most [`MAX_FACES`].
     pub fn new(prims: &[Primitive]) -> Option<FlatFaces> {
         #[cfg(target_arch = "x86_64")]
-        if avx512() {
-            return Packs::new(prims).map(|p| FlatFaces(Width::Sixteen(p)));
-        }
-        Packs::new(prims).map(|p| FlatFaces(Width::Eight(p)))
+        let packs = if avx512() {
+            Width::Sixteen(Packs::new(prims)?)
+        } else {
+            Width::Eight(Packs::new(prims)?)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let packs = Width::Eight(Packs::new(prims)?);
+        Some(FlatFaces {
+            packs,
+            each: rays8::Each::new(prims),
+            faces: hits8::Faces::new(prims),
+        })
     }
 
     /// The nearest crossing with `t` in `(t_min, t_max)` and its slot.
     #[inline]
     pub fn nearest(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
-        match &self.0 {
+        match &self.packs {
             Width::Eight(p) => {
                 #[cfg(target_arch = "x86_64")]
                 if super::bvh::avx() {
@@ -227,10 +264,25 @@ impl FlatFaces {
         }
     }
 
+    /// [`FlatFaces::nearest`] for eight rays, ray `l` in lane `l`, bit for
+    /// bit.
+    #[inline]
+    pub fn nearest8(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+        self.each.nearest(rays, t_min, t_max)
+    }
+
+    /// The hits of eight rays at their crossings `near`
+    /// ([`FlatFaces::nearest8`]), as the one-ray hits give them, written
+    /// into `out`; false where the CPU lacks AVX2.
+    #[inline]
+    pub fn hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) -> bool {
+        self.faces.hits(rays, near, out)
+    }
+
     /// Whether some face is crossed with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        match &self.0 {
+        match &self.packs {
             Width::Eight(p) => {
                 #[cfg(target_arch = "x86_64")]
                 if super::bvh::avx() {
@@ -331,15 +383,19 @@ impl<W: Wide> Packs<W> {
             u: zero,
             v: zero,
         };
+        // A later pack's lane holds a rect or a parallelogram of any slot,
+        // so a tie within a lane goes to the lower slot.
         for p in &self.rects {
             let (t, inside) = p.crossings(&r);
-            let take = t_min.lt(t) & t.lt(best.t) & inside;
-            best.keep(take, t, W::load(&p.slot), zero, zero);
+            let slot = W::load(&p.slot);
+            let take = t_min.lt(t) & best.beaten_by(t, slot) & inside;
+            best.keep(take, t, slot, zero, zero);
         }
         for p in &self.quads {
             let (t, u, v) = p.crossings(&r);
-            let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
-            best.keep(take, t, W::load(&p.slot), u, v);
+            let slot = W::load(&p.slot);
+            let take = t_min.lt(t) & best.beaten_by(t, slot) & within_unit(u, v);
+            best.keep(take, t, slot, u, v);
         }
         // The nearest lane; of equal distances, the lowest slot. A lane
         // without a crossing keeps `t_max`, and every crossing is strictly
@@ -628,6 +684,132 @@ mod tests {
             hits > 10_000 && blocked > 10_000 && grazes < 100,
             "{hits} hits, {blocked} blocked, {grazes} grazes"
         );
+    }
+
+    /// Rays in groups of eight, as the lanes trace them.
+    fn eights(rays: &[Ray]) -> impl Iterator<Item = [Ray; RAYS]> + '_ {
+        rays.chunks_exact(RAYS)
+            .map(|c| std::array::from_fn(|l| c[l]))
+    }
+
+    #[test]
+    fn eight_rays_side_by_side_cross_where_each_alone_does() {
+        let mut r = numbers(23);
+        let mut crossed = 0;
+        for (at, size) in [(Vec3::ZERO, 1.0), (Vec3::new(-2e4, 5e3, 1e5), 50.0)] {
+            let prims = faces(at, size, &mut r);
+            let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
+            let portable = rays8::Each::Portable(rays8::Faces::new(&prims));
+            for eight in eights(&rays(&prims, at, size, &mut r)) {
+                for t_max in [f32::INFINITY, size] {
+                    for near in [
+                        flat.nearest8(&eight, 0.0, t_max),
+                        portable.nearest(&eight, 0.0, t_max),
+                    ] {
+                        for (l, ray) in eight.iter().enumerate() {
+                            let alone = flat.nearest(ray, 0.0, t_max);
+                            let side = (near.slot[l] != u32::MAX).then(|| {
+                                let data = [near.u[l], near.v[l], 0.0].map(f32::to_bits);
+                                (near.slot[l] as usize, near.t[l].to_bits(), data)
+                            });
+                            let alone = alone.map(|(s, c)| {
+                                (s, c.t.to_bits(), c.data.to_array().map(f32::to_bits))
+                            });
+                            assert_eq!(side, alone, "{ray:?} to {t_max}");
+                            crossed += usize::from(side.is_some());
+                        }
+                    }
+                }
+            }
+        }
+        assert!(crossed > 10_000, "{crossed} crossings");
+    }
+
+    #[test]
+    fn a_tie_goes_to_the_lowest_slot_side_by_side() {
+        // One square as a rect and as parallelograms at several slots: the
+        // same distance bit for bit (an axis normal's dot products are
+        // exact), so every crossing is a tie between chains.
+        let rect = Rect::new(RectPlane::Xy, (0.0, 1.0), (0.0, 1.0), 0.0);
+        let quad = Quad::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).expect("a square");
+        let (r, q) = (Primitive::Rect(rect), Primitive::Quad(quad));
+        let mut rng = numbers(3);
+        // Every order of kinds: the one-ray packs put rects and
+        // parallelograms in separate packs whose lanes meet.
+        for (prims, want) in [
+            (vec![q, q, r, q], 0),
+            (vec![r, q, q], 0),
+            (vec![q, r, q, q], 0),
+        ] {
+            let flat = FlatFaces::new(&prims).expect("flat");
+            let eight: [Ray; RAYS] = std::array::from_fn(|_| {
+                let target = Vec3::new(0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 0.0);
+                let from = Vec3::new(rng(), rng(), 2.0 + rng());
+                Ray::new(from, target - from, 0.0)
+            });
+            let near = flat.nearest8(&eight, 0.0, f32::INFINITY);
+            for (l, ray) in eight.iter().enumerate() {
+                assert_eq!(near.slot[l], want, "{prims:?}");
+                let eight_lanes = Packs::<Lanes8>::new(&prims).expect("packed");
+                let alone = flat.nearest(ray, 0.0, f32::INFINITY).expect("a crossing");
+                let portable = eight_lanes.nearest_lanes::<false>(ray, 0.0, f32::INFINITY);
+                for (slot, c) in [alone, portable.expect("a crossing")] {
+                    assert_eq!(slot, want as usize, "{prims:?}");
+                    assert_eq!(c.t.to_bits(), near.t[l].to_bits());
+                }
+            }
+        }
+        // The parallelograms alone: slot 1 in the second chain, 2 in the first.
+        let flat = FlatFaces::new(&[r, q, q]).expect("flat");
+        let down = Ray::new(Vec3::new(0.5, 0.5, 1.0), -Vec3::Z, 0.0);
+        let near = flat.nearest8(&[down; RAYS], 0.0, f32::INFINITY);
+        assert_eq!(near.slot, [0; RAYS]);
+        let flat = FlatFaces::new(&[q, q]).expect("flat");
+        let near = flat.nearest8(&[down; RAYS], 0.0, f32::INFINITY);
+        assert_eq!(near.slot, [0; RAYS]);
+    }
+
+    #[test]
+    fn eight_hits_side_by_side_are_each_face_own_hit() {
+        use crate::geometry::emitter::LightId;
+        use crate::geometry::hit::facing;
+        use crate::scene::MaterialId;
+        let mut r = numbers(29);
+        let mut built = 0;
+        for (at, size) in [(Vec3::ZERO, 1.0), (Vec3::new(3e4, -1e3, 2e2), 20.0)] {
+            let prims = faces(at, size, &mut r);
+            let flat = FlatFaces::new(&prims).expect("flat");
+            for eight in eights(&rays(&prims, at, size, &mut r)) {
+                let near = flat.nearest8(&eight, 0.0, f32::INFINITY);
+                let mut hits = Hits8::default();
+                if !flat.hits8(&eight, &near, &mut hits) {
+                    return; // a CPU without AVX2 builds hits one at a time
+                }
+                for (l, ray) in eight.iter().enumerate() {
+                    if near.slot[l] == u32::MAX {
+                        continue;
+                    }
+                    let c = Crossing {
+                        t: near.t[l],
+                        data: Vec3::new(near.u[l], near.v[l], 0.0),
+                    };
+                    let h = match &prims[near.slot[l] as usize] {
+                        Primitive::Rect(rect) => rect.surface(ray, &c),
+                        Primitive::Quad(quad) => quad.surface(&c),
+                        _ => unreachable!("a flat set holds rects and parallelograms"),
+                    };
+                    let want = facing(h, h.normal, ray.dir, MaterialId(0), LightId::NONE);
+                    let lane = |v: &[[f32; RAYS]; 3]| Vec3::new(v[0][l], v[1][l], v[2][l]);
+                    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                    assert_eq!(bits(lane(&hits.point)), bits(want.point), "{ray:?}");
+                    assert_eq!(bits(lane(&hits.error)), bits(want.error), "{ray:?}");
+                    assert_eq!(bits(lane(&hits.normal)), bits(want.geo_normal), "{ray:?}");
+                    assert_eq!(bits(want.normal), bits(want.geo_normal));
+                    built += 1;
+                }
+            }
+        }
+        assert!(built > 4_000, "{built} hits");
     }
 
     #[test]

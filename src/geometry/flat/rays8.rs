@@ -1,0 +1,171 @@
+//! Eight rays at once against every face of a flat set: one ray per lane,
+//! one face per pass with the face's values repeated in every lane. This is
+//! the lanes integrator's form of [`super::FlatFaces::nearest`]. Each lane
+//! runs the one-ray passes' own operations ([`super::RectPack::crossings`],
+//! [`super::QuadPack::crossings`]), so its crossing is theirs bit for bit,
+//! and no lane waits on a reduction across lanes or on another ray's pass.
+//! The lanes are AVX registers where the CPU has AVX2 ([`super::avx8`]),
+//! else the portable arrays.
+//!
+//! The faces run as three chains, each keeping its lanes' nearest
+//! crossing: the rects, and the parallelograms taken alternately. Within
+//! a chain a face in slot order replaces a lane's best only when strictly
+//! nearer; the chains are then merged nearest first, lowest slot on a tie.
+//! So a tie goes to the lowest slot, as in the one-ray passes, while three
+//! chains of compare-and-blend run side by side instead of one through
+//! eighteen faces (1.03x the Cornell box's rate, docs/performance.md,
+//! session 22).
+
+use std::array::from_fn;
+
+#[cfg(target_arch = "x86_64")]
+use super::avx8::Avx8;
+use super::wide::{Lanes8, Wide};
+use super::{quad_pack, rect_pack, within_unit, Best, QuadPack, RayLanes, RectPack};
+use crate::geometry::primitives::Primitive;
+use crate::geometry::Ray;
+
+/// Rays per pass.
+pub const RAYS: usize = 8;
+
+/// Each lane's nearest crossing: its face's slot (`u32::MAX` for none),
+/// distance, and a parallelogram's `(u, v)` (zero for a rect).
+#[derive(Clone, Copy, Debug)]
+pub struct Nearest8 {
+    pub slot: [u32; RAYS],
+    pub t: [f32; RAYS],
+    pub u: [f32; RAYS],
+    pub v: [f32; RAYS],
+}
+
+impl Nearest8 {
+    /// No lane with a crossing.
+    pub const NONE: Nearest8 = Nearest8 {
+        slot: [u32::MAX; RAYS],
+        t: [0.0; RAYS],
+        u: [0.0; RAYS],
+        v: [0.0; RAYS],
+    };
+}
+
+/// A flat set's faces for eight rays at a time, in the lanes this CPU
+/// runs.
+#[derive(Debug)]
+pub(super) enum Each {
+    Portable(Faces<Lanes8>),
+    #[cfg(target_arch = "x86_64")]
+    Avx2(Faces<Avx8>),
+}
+
+impl Each {
+    /// The rects and parallelograms of `prims` (the only kinds a flat set
+    /// holds).
+    pub(super) fn new(prims: &[Primitive]) -> Each {
+        #[cfg(target_arch = "x86_64")]
+        if avx2() {
+            return Each::Avx2(Faces::new(prims));
+        }
+        Each::Portable(Faces::new(prims))
+    }
+
+    /// Each ray's nearest crossing with `t` in `(t_min, t_max)`.
+    #[inline]
+    pub(super) fn nearest(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+        match self {
+            Each::Portable(f) => f.nearest(rays, t_min, t_max),
+            // SAFETY: AVX faces are built only where the CPU has AVX2.
+            #[cfg(target_arch = "x86_64")]
+            Each::Avx2(f) => unsafe { f.nearest_avx2(rays, t_min, t_max) },
+        }
+    }
+}
+
+/// The rects and the parallelograms, each in slot order, a face a pass.
+#[derive(Debug)]
+pub(super) struct Faces<W: Wide> {
+    rects: Vec<RectPack<W>>,
+    quads: Vec<QuadPack<W>>,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Faces<Avx8> {
+    /// [`Faces::nearest`] compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[target_feature(enable = "avx2")]
+    unsafe fn nearest_avx2(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+        self.nearest(rays, t_min, t_max)
+    }
+}
+
+impl<W: Wide> Faces<W> {
+    pub(super) fn new(prims: &[Primitive]) -> Faces<W> {
+        let mut faces = Faces {
+            rects: Vec::new(),
+            quads: Vec::new(),
+        };
+        for (slot, p) in (0u32..).zip(prims) {
+            match p {
+                Primitive::Rect(r) => faces.rects.push(rect_pack(&[(slot, *r); RAYS])),
+                Primitive::Quad(q) => faces.quads.push(quad_pack(&[(slot, *q); RAYS])),
+                _ => {}
+            }
+        }
+        faces
+    }
+
+    #[inline(always)]
+    fn nearest(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+        let r = lanes_of::<W>(rays);
+        let t_min = W::splat(t_min);
+        let zero = W::splat(0.0);
+        let none = Best {
+            t: W::splat(t_max),
+            slot: W::splat(f32::from_bits(u32::MAX)),
+            u: zero,
+            v: zero,
+        };
+        let mut rects = none.clone();
+        for p in &self.rects {
+            let (t, inside) = p.crossings(&r);
+            let take = t_min.lt(t) & t.lt(rects.t) & inside;
+            rects.keep(take, t, W::load(&p.slot), zero, zero);
+        }
+        let mut quads = [none.clone(), none];
+        for pair in self.quads.chunks(2) {
+            for (best, p) in quads.iter_mut().zip(pair) {
+                let (t, u, v) = p.crossings(&r);
+                let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
+                best.keep(take, t, W::load(&p.slot), u, v);
+            }
+        }
+        let mut best = rects;
+        for other in &quads {
+            best.nearest_of(other);
+        }
+        Nearest8 {
+            slot: from_fn(|l| best.slot(l)),
+            t: from_fn(|l| best.t.lane(l)),
+            u: from_fn(|l| best.u.lane(l)),
+            v: from_fn(|l| best.v.lane(l)),
+        }
+    }
+}
+
+/// The rays' origins and directions, ray `l` in lane `l`.
+#[inline(always)]
+fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
+    let lanes = |f: &dyn Fn(&Ray) -> f32| W::load(&W::row(|l| f(&rays[l])));
+    RayLanes {
+        o: from_fn(|a| lanes(&|r| r.origin[a])),
+        d: from_fn(|a| lanes(&|r| r.dir[a])),
+    }
+}
+
+/// Whether the passes take AVX registers: eight lanes of masks need
+/// 256-bit integer operations, which AVX alone splits in halves.
+#[cfg(target_arch = "x86_64")]
+pub(super) fn avx2() -> bool {
+    std::arch::is_x86_feature_detected!("avx2")
+}
