@@ -36,10 +36,10 @@ type Lane<T> = [T; WIDTH];
 
 /// Live lanes from which a flat set's crossings are found eight rays to a
 /// pass rather than a ray at a time: with fewer, the eight-ray passes'
-/// dead lanes cost more than the one-ray passes' reductions (3 to 7 live
-/// lanes ran within 1 % of each other on the Cornell box; the one-ray
-/// passes only, 0.97x; docs/performance.md, session 22).
-const SIDE_BY_SIDE: usize = 5;
+/// dead lanes cost more than the one-ray passes' reductions (on the
+/// Cornell box with AVX-512F, 2: 0.98x of 4, 3 and 5 within 1 %, 7: 0.97x;
+/// docs/performance.md, session 22).
+const SIDE_BY_SIDE: usize = 4;
 
 /// How a material scatters, as the lanes know it.
 #[derive(Clone, Copy, Debug)]

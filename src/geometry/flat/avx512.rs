@@ -12,8 +12,8 @@
 
 use std::arch::x86_64::{
     __m512, _mm512_add_ps, _mm512_cmp_ps_mask, _mm512_div_ps, _mm512_load_ps, _mm512_mask_blend_ps,
-    _mm512_mul_ps, _mm512_reduce_min_ps, _mm512_set1_ps, _mm512_storeu_ps, _mm512_sub_ps,
-    _CMP_EQ_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
+    _mm512_mul_ps, _mm512_reduce_min_ps, _mm512_set1_ps, _mm512_shuffle_f32x4, _mm512_storeu_ps,
+    _mm512_sub_ps, _CMP_EQ_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
 };
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
@@ -30,6 +30,15 @@ pub(crate) fn avx512() -> bool {
 /// Sixteen floats in one register.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Lanes16(__m512);
+
+impl Lanes16 {
+    /// The lanes with their two halves of eight swapped.
+    #[inline(always)]
+    pub(super) fn swap_halves(self) -> Lanes16 {
+        // SAFETY: as for the operators.
+        Lanes16(unsafe { _mm512_shuffle_f32x4::<0b0100_1110>(self.0, self.0) })
+    }
+}
 
 /// Sixteen floats as a pack stores them, aligned for one load.
 #[derive(Clone, Copy, Debug)]

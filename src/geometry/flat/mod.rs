@@ -699,13 +699,10 @@ mod tests {
         for (at, size) in [(Vec3::ZERO, 1.0), (Vec3::new(-2e4, 5e3, 1e5), 50.0)] {
             let prims = faces(at, size, &mut r);
             let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
-            let portable = rays8::Each::Portable(rays8::Faces::new(&prims));
+            let forms = rays8::tests::every_form(&prims);
             for eight in eights(&rays(&prims, at, size, &mut r)) {
                 for t_max in [f32::INFINITY, size] {
-                    for near in [
-                        flat.nearest8(&eight, 0.0, t_max),
-                        portable.nearest(&eight, 0.0, t_max),
-                    ] {
+                    for near in forms.iter().map(|f| f.nearest(&eight, 0.0, t_max)) {
                         for (l, ray) in eight.iter().enumerate() {
                             let alone = flat.nearest(ray, 0.0, t_max);
                             let side = (near.slot[l] != u32::MAX).then(|| {
@@ -748,6 +745,10 @@ mod tests {
                 Ray::new(from, target - from, 0.0)
             });
             let near = flat.nearest8(&eight, 0.0, f32::INFINITY);
+            for form in rays8::tests::every_form(&prims) {
+                let other = form.nearest(&eight, 0.0, f32::INFINITY);
+                assert_eq!((other.slot, other.t), (near.slot, near.t), "{prims:?}");
+            }
             for (l, ray) in eight.iter().enumerate() {
                 assert_eq!(near.slot[l], want, "{prims:?}");
                 let eight_lanes = Packs::<Lanes8>::new(&prims).expect("packed");

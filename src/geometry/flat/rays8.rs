@@ -4,8 +4,11 @@
 //! runs the one-ray passes' own operations ([`super::RectPack::crossings`],
 //! [`super::QuadPack::crossings`]), so its crossing is theirs bit for bit,
 //! and no lane waits on a reduction across lanes or on another ray's pass.
-//! The lanes are AVX registers where the CPU has AVX2 ([`super::avx8`]),
-//! else the portable arrays.
+//! Where the CPU has AVX-512F a pass is sixteen lanes, two faces against
+//! the eight rays ([`Pairs`], 1.041x the Cornell box's rate of one face in
+//! eight AVX lanes, docs/performance.md, session 22), the two halves merged
+//! at the end as the chains are; else eight AVX lanes where it has AVX2
+//! ([`super::avx8`]), else the portable arrays.
 //!
 //! The faces run as three chains, each keeping its lanes' nearest
 //! crossing: the rects, and the parallelograms taken alternately. Within
@@ -18,6 +21,8 @@
 
 use std::array::from_fn;
 
+#[cfg(target_arch = "x86_64")]
+use super::avx512::{avx512, Lanes16};
 #[cfg(target_arch = "x86_64")]
 use super::avx8::Avx8;
 use super::wide::{Lanes8, Wide};
@@ -55,12 +60,18 @@ pub(super) enum Each {
     Portable(Faces<Lanes8>),
     #[cfg(target_arch = "x86_64")]
     Avx2(Faces<Avx8>),
+    #[cfg(target_arch = "x86_64")]
+    Avx512(Pairs),
 }
 
 impl Each {
     /// The rects and parallelograms of `prims` (the only kinds a flat set
     /// holds).
     pub(super) fn new(prims: &[Primitive]) -> Each {
+        #[cfg(target_arch = "x86_64")]
+        if avx512() {
+            return Each::Avx512(Pairs::new(prims));
+        }
         #[cfg(target_arch = "x86_64")]
         if avx2() {
             return Each::Avx2(Faces::new(prims));
@@ -76,6 +87,9 @@ impl Each {
             // SAFETY: AVX faces are built only where the CPU has AVX2.
             #[cfg(target_arch = "x86_64")]
             Each::Avx2(f) => unsafe { f.nearest_avx2(rays, t_min, t_max) },
+            // SAFETY: pairs are built only where the CPU has AVX-512F.
+            #[cfg(target_arch = "x86_64")]
+            Each::Avx512(f) => unsafe { f.nearest_avx512(rays, t_min, t_max) },
         }
     }
 }
@@ -153,6 +167,90 @@ impl<W: Wide> Faces<W> {
     }
 }
 
+/// The faces two to a pass of sixteen lanes, the first in lanes 0–7 and
+/// the second in lanes 8–15, each against the eight rays.
+#[cfg(target_arch = "x86_64")]
+#[derive(Debug)]
+pub(super) struct Pairs {
+    rects: Vec<RectPack<Lanes16>>,
+    quads: Vec<QuadPack<Lanes16>>,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Pairs {
+    fn new(prims: &[Primitive]) -> Pairs {
+        let mut rects = Vec::new();
+        let mut quads = Vec::new();
+        for (slot, p) in (0u32..).zip(prims) {
+            match p {
+                Primitive::Rect(r) => rects.push((slot, *r)),
+                Primitive::Quad(q) => quads.push((slot, *q)),
+                _ => {}
+            }
+        }
+        Pairs {
+            rects: rects.chunks(2).map(|p| rect_pack(&twice(p))).collect(),
+            quads: quads.chunks(2).map(|p| quad_pack(&twice(p))).collect(),
+        }
+    }
+
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[target_feature(enable = "avx512f")]
+    unsafe fn nearest_avx512(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+        let lanes = |f: &dyn Fn(&Ray) -> f32| Lanes16::load(&Lanes16::row(|l| f(&rays[l % RAYS])));
+        let r = RayLanes {
+            o: from_fn(|a| lanes(&|ray| ray.origin[a])),
+            d: from_fn(|a| lanes(&|ray| ray.dir[a])),
+        };
+        let t_min = Lanes16::splat(t_min);
+        let zero = Lanes16::splat(0.0);
+        let none = Best {
+            t: Lanes16::splat(t_max),
+            slot: Lanes16::splat(f32::from_bits(u32::MAX)),
+            u: zero,
+            v: zero,
+        };
+        let mut rects = none.clone();
+        for p in &self.rects {
+            let (t, inside) = p.crossings(&r);
+            let take = t_min.lt(t) & t.lt(rects.t) & inside;
+            rects.keep(take, t, Lanes16::load(&p.slot), zero, zero);
+        }
+        let mut quads = [none.clone(), none];
+        for pair in self.quads.chunks(2) {
+            for (best, p) in quads.iter_mut().zip(pair) {
+                let (t, u, v) = p.crossings(&r);
+                let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
+                best.keep(take, t, Lanes16::load(&p.slot), u, v);
+            }
+        }
+        let mut best = rects;
+        for other in &quads {
+            best.nearest_of(other);
+        }
+        let other = Best {
+            t: best.t.swap_halves(),
+            slot: best.slot.swap_halves(),
+            u: best.u.swap_halves(),
+            v: best.v.swap_halves(),
+        };
+        best.nearest_of(&other);
+        Nearest8 {
+            slot: from_fn(|l| best.slot(l)),
+            t: from_fn(|l| best.t.lane(l)),
+            u: from_fn(|l| best.u.lane(l)),
+            v: from_fn(|l| best.v.lane(l)),
+        }
+    }
+}
+
+/// Each face of `pair` in eight lanes, in order.
+#[cfg(target_arch = "x86_64")]
+fn twice<F: Copy>(pair: &[(u32, F)]) -> Vec<(u32, F)> {
+    pair.iter().flat_map(|f| [*f; RAYS]).collect()
+}
+
 /// The rays' origins and directions, ray `l` in lane `l`.
 #[inline(always)]
 fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
@@ -168,4 +266,26 @@ fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
 #[cfg(target_arch = "x86_64")]
 pub(super) fn avx2() -> bool {
     std::arch::is_x86_feature_detected!("avx2")
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+
+    /// The forms this CPU runs: the portable arrays, and the AVX2 and
+    /// AVX-512F ones where it has them.
+    pub(in crate::geometry::flat) fn every_form(prims: &[Primitive]) -> Vec<Each> {
+        #[allow(unused_mut)]
+        let mut forms = vec![Each::Portable(Faces::new(prims))];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if avx2() {
+                forms.push(Each::Avx2(Faces::new(prims)));
+            }
+            if avx512() {
+                forms.push(Each::Avx512(Pairs::new(prims)));
+            }
+        }
+        forms
+    }
 }
