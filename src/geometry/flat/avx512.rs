@@ -31,15 +31,6 @@ pub(crate) fn avx512() -> bool {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Lanes16(__m512);
 
-impl Lanes16 {
-    /// The lanes with their two halves of eight swapped.
-    #[inline(always)]
-    pub(super) fn swap_halves(self) -> Lanes16 {
-        // SAFETY: as for the operators.
-        Lanes16(unsafe { _mm512_shuffle_f32x4::<0b0100_1110>(self.0, self.0) })
-    }
-}
-
 /// Sixteen floats as a pack stores them, aligned for one load.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
@@ -135,6 +126,13 @@ impl Wide for Lanes16 {
         // SAFETY: as for the operators; `all` holds sixteen floats.
         unsafe { _mm512_storeu_ps(all.as_mut_ptr(), self.0) };
         all[l]
+    }
+
+    /// The two halves of eight swapped.
+    #[inline(always)]
+    fn upper_half(self) -> Lanes16 {
+        // SAFETY: as for the operators.
+        Lanes16(unsafe { _mm512_shuffle_f32x4::<0b0100_1110>(self.0, self.0) })
     }
 
     #[inline(always)]

@@ -118,6 +118,11 @@ impl Wide for Avx8 {
     }
 
     #[inline(always)]
+    fn upper_half(self) -> Avx8 {
+        self
+    }
+
+    #[inline(always)]
     fn least(self) -> f32 {
         let mut all = [0.0f32; EIGHT];
         // SAFETY: as for `lane`.

@@ -352,15 +352,7 @@ impl<W: Wide> Packs<W> {
         if prims.is_empty() || prims.len() > MAX_FACES {
             return None;
         }
-        let mut rects = Vec::new();
-        let mut quads = Vec::new();
-        for (slot, p) in (0u32..).zip(prims) {
-            match p {
-                Primitive::Rect(r) => rects.push((slot, *r)),
-                Primitive::Quad(q) => quads.push((slot, *q)),
-                _ => return None,
-            }
-        }
+        let (rects, quads) = by_kind(prims)?;
         Some(Packs {
             rects: rects.chunks(W::LANES).map(rect_pack).collect(),
             quads: quads.chunks(W::LANES).map(quad_pack).collect(),
@@ -452,6 +444,22 @@ impl<W: Wide> Packs<W> {
         }
         false
     }
+}
+
+/// The rects and the parallelograms of `prims` with their slots, each in
+/// slot order; `None` if it holds another kind.
+#[allow(clippy::type_complexity)]
+fn by_kind(prims: &[Primitive]) -> Option<(Vec<(u32, Rect)>, Vec<(u32, Quad)>)> {
+    let mut rects = Vec::new();
+    let mut quads = Vec::new();
+    for (slot, p) in (0u32..).zip(prims) {
+        match p {
+            Primitive::Rect(r) => rects.push((slot, *r)),
+            Primitive::Quad(q) => quads.push((slot, *q)),
+            _ => return None,
+        }
+    }
+    Some((rects, quads))
 }
 
 /// Up to `W::LANES` rects with their slots as one pack.

@@ -5,7 +5,7 @@
 //! [`super::QuadPack::crossings`]), so its crossing is theirs bit for bit,
 //! and no lane waits on a reduction across lanes or on another ray's pass.
 //! Where the CPU has AVX-512F a pass is sixteen lanes, two faces against
-//! the eight rays ([`Pairs`], 1.041x the Cornell box's rate of one face in
+//! the eight rays (1.041x the Cornell box's rate of one face in
 //! eight AVX lanes, docs/performance.md, session 22), the two halves merged
 //! at the end as the chains are; else eight AVX lanes where it has AVX2
 //! ([`super::avx8`]), else the portable arrays.
@@ -26,7 +26,7 @@ use super::avx512::{avx512, Lanes16};
 #[cfg(target_arch = "x86_64")]
 use super::avx8::Avx8;
 use super::wide::{Lanes8, Wide};
-use super::{quad_pack, rect_pack, within_unit, Best, QuadPack, RayLanes, RectPack};
+use super::{by_kind, quad_pack, rect_pack, within_unit, Best, QuadPack, RayLanes, RectPack};
 use crate::geometry::primitives::Primitive;
 use crate::geometry::Ray;
 
@@ -61,7 +61,7 @@ pub(super) enum Each {
     #[cfg(target_arch = "x86_64")]
     Avx2(Faces<Avx8>),
     #[cfg(target_arch = "x86_64")]
-    Avx512(Pairs),
+    Avx512(Faces<Lanes16>),
 }
 
 impl Each {
@@ -70,7 +70,7 @@ impl Each {
     pub(super) fn new(prims: &[Primitive]) -> Each {
         #[cfg(target_arch = "x86_64")]
         if avx512() {
-            return Each::Avx512(Pairs::new(prims));
+            return Each::Avx512(Faces::new(prims));
         }
         #[cfg(target_arch = "x86_64")]
         if avx2() {
@@ -87,14 +87,17 @@ impl Each {
             // SAFETY: AVX faces are built only where the CPU has AVX2.
             #[cfg(target_arch = "x86_64")]
             Each::Avx2(f) => unsafe { f.nearest_avx2(rays, t_min, t_max) },
-            // SAFETY: pairs are built only where the CPU has AVX-512F.
+            // SAFETY: sixteen-lane faces are built only where the CPU has
+            // AVX-512F.
             #[cfg(target_arch = "x86_64")]
             Each::Avx512(f) => unsafe { f.nearest_avx512(rays, t_min, t_max) },
         }
     }
 }
 
-/// The rects and the parallelograms, each in slot order, a face a pass.
+/// The rects and the parallelograms, each in slot order, a face per eight
+/// lanes of a pass: one face a pass of eight, two of sixteen (the first in
+/// lanes 0–7).
 #[derive(Debug)]
 pub(super) struct Faces<W: Wide> {
     rects: Vec<RectPack<W>>,
@@ -113,20 +116,32 @@ impl Faces<Avx8> {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl Faces<Lanes16> {
+    /// [`Faces::nearest`] compiled with AVX-512F.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
+    #[target_feature(enable = "avx512f")]
+    unsafe fn nearest_avx512(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+        self.nearest(rays, t_min, t_max)
+    }
+}
+
 impl<W: Wide> Faces<W> {
     pub(super) fn new(prims: &[Primitive]) -> Faces<W> {
-        let mut faces = Faces {
-            rects: Vec::new(),
-            quads: Vec::new(),
-        };
-        for (slot, p) in (0u32..).zip(prims) {
-            match p {
-                Primitive::Rect(r) => faces.rects.push(rect_pack(&[(slot, *r); RAYS])),
-                Primitive::Quad(q) => faces.quads.push(quad_pack(&[(slot, *q); RAYS])),
-                _ => {}
-            }
+        let (rects, quads) = by_kind(prims).unwrap_or_default();
+        let per_pass = W::LANES / RAYS;
+        Faces {
+            rects: rects
+                .chunks(per_pass)
+                .map(|f| rect_pack(&spread(f)))
+                .collect(),
+            quads: quads
+                .chunks(per_pass)
+                .map(|f| quad_pack(&spread(f)))
+                .collect(),
         }
-        faces
     }
 
     #[inline(always)]
@@ -158,6 +173,16 @@ impl<W: Wide> Faces<W> {
         for other in &quads {
             best.nearest_of(other);
         }
+        // Sixteen lanes: the second face's half against the first's.
+        if W::LANES > RAYS {
+            let upper = Best {
+                t: best.t.upper_half(),
+                slot: best.slot.upper_half(),
+                u: best.u.upper_half(),
+                v: best.v.upper_half(),
+            };
+            best.nearest_of(&upper);
+        }
         Nearest8 {
             slot: from_fn(|l| best.slot(l)),
             t: from_fn(|l| best.t.lane(l)),
@@ -167,94 +192,16 @@ impl<W: Wide> Faces<W> {
     }
 }
 
-/// The faces two to a pass of sixteen lanes, the first in lanes 0–7 and
-/// the second in lanes 8–15, each against the eight rays.
-#[cfg(target_arch = "x86_64")]
-#[derive(Debug)]
-pub(super) struct Pairs {
-    rects: Vec<RectPack<Lanes16>>,
-    quads: Vec<QuadPack<Lanes16>>,
+/// Each face in eight lanes, in order.
+fn spread<F: Copy>(faces: &[(u32, F)]) -> Vec<(u32, F)> {
+    faces.iter().flat_map(|f| [*f; RAYS]).collect()
 }
 
-#[cfg(target_arch = "x86_64")]
-impl Pairs {
-    fn new(prims: &[Primitive]) -> Pairs {
-        let mut rects = Vec::new();
-        let mut quads = Vec::new();
-        for (slot, p) in (0u32..).zip(prims) {
-            match p {
-                Primitive::Rect(r) => rects.push((slot, *r)),
-                Primitive::Quad(q) => quads.push((slot, *q)),
-                _ => {}
-            }
-        }
-        Pairs {
-            rects: rects.chunks(2).map(|p| rect_pack(&twice(p))).collect(),
-            quads: quads.chunks(2).map(|p| quad_pack(&twice(p))).collect(),
-        }
-    }
-
-    /// # Safety
-    /// The CPU must support AVX-512F.
-    #[target_feature(enable = "avx512f")]
-    unsafe fn nearest_avx512(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
-        let lanes = |f: &dyn Fn(&Ray) -> f32| Lanes16::load(&Lanes16::row(|l| f(&rays[l % RAYS])));
-        let r = RayLanes {
-            o: from_fn(|a| lanes(&|ray| ray.origin[a])),
-            d: from_fn(|a| lanes(&|ray| ray.dir[a])),
-        };
-        let t_min = Lanes16::splat(t_min);
-        let zero = Lanes16::splat(0.0);
-        let none = Best {
-            t: Lanes16::splat(t_max),
-            slot: Lanes16::splat(f32::from_bits(u32::MAX)),
-            u: zero,
-            v: zero,
-        };
-        let mut rects = none.clone();
-        for p in &self.rects {
-            let (t, inside) = p.crossings(&r);
-            let take = t_min.lt(t) & t.lt(rects.t) & inside;
-            rects.keep(take, t, Lanes16::load(&p.slot), zero, zero);
-        }
-        let mut quads = [none.clone(), none];
-        for pair in self.quads.chunks(2) {
-            for (best, p) in quads.iter_mut().zip(pair) {
-                let (t, u, v) = p.crossings(&r);
-                let take = t_min.lt(t) & t.lt(best.t) & within_unit(u, v);
-                best.keep(take, t, Lanes16::load(&p.slot), u, v);
-            }
-        }
-        let mut best = rects;
-        for other in &quads {
-            best.nearest_of(other);
-        }
-        let other = Best {
-            t: best.t.swap_halves(),
-            slot: best.slot.swap_halves(),
-            u: best.u.swap_halves(),
-            v: best.v.swap_halves(),
-        };
-        best.nearest_of(&other);
-        Nearest8 {
-            slot: from_fn(|l| best.slot(l)),
-            t: from_fn(|l| best.t.lane(l)),
-            u: from_fn(|l| best.u.lane(l)),
-            v: from_fn(|l| best.v.lane(l)),
-        }
-    }
-}
-
-/// Each face of `pair` in eight lanes, in order.
-#[cfg(target_arch = "x86_64")]
-fn twice<F: Copy>(pair: &[(u32, F)]) -> Vec<(u32, F)> {
-    pair.iter().flat_map(|f| [*f; RAYS]).collect()
-}
-
-/// The rays' origins and directions, ray `l` in lane `l`.
+/// The rays' origins and directions, ray `l` in lane `l` (and in lane
+/// `l + 8` of sixteen).
 #[inline(always)]
 fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
-    let lanes = |f: &dyn Fn(&Ray) -> f32| W::load(&W::row(|l| f(&rays[l])));
+    let lanes = |f: &dyn Fn(&Ray) -> f32| W::load(&W::row(|l| f(&rays[l % RAYS])));
     RayLanes {
         o: from_fn(|a| lanes(&|r| r.origin[a])),
         d: from_fn(|a| lanes(&|r| r.dir[a])),
@@ -283,7 +230,7 @@ pub(super) mod tests {
                 forms.push(Each::Avx2(Faces::new(prims)));
             }
             if avx512() {
-                forms.push(Each::Avx512(Pairs::new(prims)));
+                forms.push(Each::Avx512(Faces::new(prims)));
             }
         }
         forms

@@ -33,6 +33,9 @@ pub(super) trait Wide:
     fn load(row: &Self::Row) -> Self;
     fn splat(x: f32) -> Self;
     fn lane(self, l: usize) -> f32;
+    /// Lanes 8–15 moved onto lanes 0–7 where there are sixteen; eight
+    /// lanes stay as they are.
+    fn upper_half(self) -> Self;
     /// The smallest lane (no lane is NaN).
     fn least(self) -> f32;
     /// Ordered comparisons: false where either side is NaN.
@@ -132,6 +135,11 @@ impl Wide for Lanes8 {
     #[inline(always)]
     fn lane(self, l: usize) -> f32 {
         self.0[l]
+    }
+
+    #[inline(always)]
+    fn upper_half(self) -> Lanes8 {
+        self
     }
 
     /// Halving the lanes three times.
