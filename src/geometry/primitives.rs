@@ -250,11 +250,32 @@ impl PrimitiveSet {
     /// The hits of eight rays at crossings `near` that
     /// [`PrimitiveSet::flat_crossings8`] gave, written into `out`:
     /// [`PrimitiveSet::flat_hit_at`]'s points, error bounds and normals,
-    /// lane by lane. False for a set that is not flat or a CPU without
-    /// AVX2.
+    /// lane by lane (all eight at once where the CPU has AVX2, else a lane
+    /// at a time). A set that is not flat writes nothing.
     #[inline]
-    pub fn flat_hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) -> bool {
-        self.flat.as_ref().is_some_and(|f| f.hits8(rays, near, out))
+    pub fn flat_hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+        let Some(flat) = &self.flat else { return };
+        if !flat.hits8(rays, near, out) {
+            self.flat_hits_each(rays, near, out);
+        }
+    }
+
+    /// [`PrimitiveSet::flat_hits8`] a lane at a time (CPUs without AVX2;
+    /// kept out of the callers' loops).
+    #[cold]
+    #[inline(never)]
+    pub(super) fn flat_hits_each(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+        for (l, ray) in rays.iter().enumerate() {
+            let Some((slot, c)) = near.crossing(l) else {
+                continue;
+            };
+            let h = self.flat_hit_at(slot, ray, &c);
+            for a in 0..3 {
+                out.point[a][l] = h.point[a];
+                out.error[a][l] = h.error[a];
+                out.normal[a][l] = h.geo_normal[a];
+            }
+        }
     }
 
     /// The hit facing `ray` at a crossing `c` of slot `slot` that

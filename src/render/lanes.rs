@@ -21,7 +21,6 @@ use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::medium::MediumSegments;
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
-use crate::geometry::shapes::Crossing;
 use crate::geometry::{Hit, Ray};
 use crate::sampling::sampler::{PixelSeeds, BLOCK};
 use crate::sampling::sobol8::{points8_each, Shuffled};
@@ -180,8 +179,8 @@ impl<'a> Lanes<'a> {
             let mut side_by_side = Hits8::default();
             let flat_hits = flat.map(|set| {
                 let near = crossings(set, &ray, &alive);
-                let built = set.flat_hits8(&ray, &near, &mut side_by_side);
-                (set, near, built)
+                set.flat_hits8(&ray, &near, &mut side_by_side);
+                (set, near)
             });
             for i in 0..WIDTH {
                 if !alive[i] {
@@ -189,14 +188,9 @@ impl<'a> Lanes<'a> {
                 }
                 rays[i] += 1;
                 let (material, hit) = match &flat_hits {
-                    Some((set, near, built)) => match near.slot[i] {
+                    Some((set, near)) => match near.slot[i] {
                         u32::MAX => (None, None),
-                        slot if *built => (Some(set.ids(slot as usize).0), None),
-                        slot => {
-                            let h = flat_hit(set, near, i, &ray[i]);
-                            debug_assert_eq!(h.material, set.ids(slot as usize).0);
-                            (Some(h.material), Some(h))
-                        }
+                        slot => (Some(set.ids(slot as usize).0), None),
                     },
                     None => match world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media)
                     {
@@ -220,7 +214,7 @@ impl<'a> Lanes<'a> {
                     }
                     Surface::Emitter { emit, two_sided } => {
                         let hit = hit.unwrap_or_else(|| {
-                            let (set, near, _) = flat_hits.as_ref().expect("a flat set's lane");
+                            let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
                             flat_hit(set, near, i, &ray[i])
                         });
                         let emitted = if hit.front_face || two_sided {
@@ -240,7 +234,7 @@ impl<'a> Lanes<'a> {
                     }
                 }
             }
-            if let Some((_, _, true)) = &flat_hits {
+            if flat_hits.is_some() {
                 frame.set_all(&side_by_side);
             }
             if !diffuse.contains(&true) {
@@ -577,8 +571,7 @@ fn crossings(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Nearest
             continue;
         }
         if let Some((slot, c)) = set.flat_crossing(&ray[i], 0.0, f32::INFINITY) {
-            (near.slot[i], near.t[i], near.u[i], near.v[i]) =
-                (slot as u32, c.t, c.data.x, c.data.y);
+            near.set(i, slot, &c);
         }
     }
     near
@@ -587,9 +580,6 @@ fn crossings(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Nearest
 /// Lane `i`'s whole hit at its crossing `near` on a flat set.
 #[inline(always)]
 fn flat_hit(set: &PrimitiveSet, near: &Nearest8, i: usize, ray: &Ray) -> Hit {
-    let at = Crossing {
-        t: near.t[i],
-        data: Vec3::new(near.u[i], near.v[i], 0.0),
-    };
-    set.flat_hit_at(near.slot[i] as usize, ray, &at)
+    let (slot, c) = near.crossing(i).expect("a lane that met a face");
+    set.flat_hit_at(slot, ray, &c)
 }

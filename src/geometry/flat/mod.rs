@@ -795,14 +795,10 @@ mod tests {
                     return; // a CPU without AVX2 builds hits one at a time
                 }
                 for (l, ray) in eight.iter().enumerate() {
-                    if near.slot[l] == u32::MAX {
+                    let Some((slot, c)) = near.crossing(l) else {
                         continue;
-                    }
-                    let c = Crossing {
-                        t: near.t[l],
-                        data: Vec3::new(near.u[l], near.v[l], 0.0),
                     };
-                    let h = match &prims[near.slot[l] as usize] {
+                    let h = match &prims[slot] {
                         Primitive::Rect(rect) => rect.surface(ray, &c),
                         Primitive::Quad(quad) => quad.surface(&c),
                         _ => unreachable!("a flat set holds rects and parallelograms"),
@@ -819,6 +815,41 @@ mod tests {
             }
         }
         assert!(built > 4_000, "{built} hits");
+    }
+
+    #[test]
+    fn a_sets_hits_side_by_side_are_its_hits_one_at_a_time() {
+        use crate::geometry::emitter::LightId;
+        use crate::geometry::primitives::PrimitiveSet;
+        use crate::scene::MaterialId;
+        let mut r = numbers(31);
+        let prims = faces(Vec3::new(7.0, -3.0, 40.0), 5.0, &mut r);
+        let rays = rays(&prims, Vec3::new(7.0, -3.0, 40.0), 5.0, &mut r);
+        let set = PrimitiveSet::new(
+            prims
+                .into_iter()
+                .map(|p| (p, MaterialId(0), LightId::NONE))
+                .collect(),
+        );
+        let mut compared = 0;
+        for eight in eights(&rays) {
+            let near = set
+                .flat_crossings8(&eight, 0.0, f32::INFINITY)
+                .expect("a flat set");
+            let (mut side, mut each) = (Hits8::default(), Hits8::default());
+            set.flat_hits8(&eight, &near, &mut side);
+            set.flat_hits_each(&eight, &near, &mut each);
+            for l in (0..RAYS).filter(|&l| near.crossing(l).is_some()) {
+                for a in 0..3 {
+                    let bits = |h: &Hits8| {
+                        [h.point[a][l], h.error[a][l], h.normal[a][l]].map(f32::to_bits)
+                    };
+                    assert_eq!(bits(&side), bits(&each), "{:?}", eight[l]);
+                }
+                compared += 1;
+            }
+        }
+        assert!(compared > 2_000, "{compared} hits");
     }
 
     #[test]

@@ -27,7 +27,10 @@ use super::avx512::{avx512, Lanes16};
 use super::avx8::Avx8;
 use super::wide::{Lanes8, Wide};
 use super::{by_kind, quad_pack, rect_pack, within_unit, Best, QuadPack, RayLanes, RectPack};
+use glam::Vec3;
+
 use crate::geometry::primitives::Primitive;
+use crate::geometry::shapes::Crossing;
 use crate::geometry::Ray;
 
 /// Rays per pass.
@@ -51,6 +54,23 @@ impl Nearest8 {
         u: [0.0; RAYS],
         v: [0.0; RAYS],
     };
+
+    /// Lane `l`'s crossing and its slot, as [`super::FlatFaces::nearest`]
+    /// gives them.
+    #[inline(always)]
+    pub fn crossing(&self, l: usize) -> Option<(usize, Crossing)> {
+        let c = Crossing {
+            t: self.t[l],
+            data: Vec3::new(self.u[l], self.v[l], 0.0),
+        };
+        (self.slot[l] != u32::MAX).then_some((self.slot[l] as usize, c))
+    }
+
+    /// Lane `l` set to crossing `c` of slot `slot`.
+    #[inline(always)]
+    pub fn set(&mut self, l: usize, slot: usize, c: &Crossing) {
+        (self.slot[l], self.t[l], self.u[l], self.v[l]) = (slot as u32, c.t, c.data.x, c.data.y);
+    }
 }
 
 /// A flat set's faces for eight rays at a time, in the lanes this CPU
