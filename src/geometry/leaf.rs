@@ -120,8 +120,9 @@ impl SphereLeaf {
         }
     }
 
-    /// The lanes (bit `i` for lane `i`) whose sphere the early miss test of
-    /// [`Sphere::crossing`] does not reject for `ray`.
+    /// The lanes (bit `i` for lane `i`) whose sphere neither early test of
+    /// [`Sphere::crossing`] rejects for `ray`: the miss test and
+    /// [`Sphere::departs`].
     #[inline]
     pub fn candidates(&self, ray: &Ray) -> u32 {
         let dd = f32x4::splat(ray.dir.length_squared());
@@ -134,8 +135,12 @@ impl SphereLeaf {
         let cross2 = cx * cx + cy * cy + cz * cz;
         let f2 = fx * fx + fy * fy + fz * fz;
         let r = self.radius;
-        let bound = (r * r + f32x4::splat(MISS_MARGIN) * f2) * dd;
-        let rejected = cross2.cmp_gt(bound).move_mask() as u32;
+        let r2 = r * r;
+        let bound = (r2 + f32x4::splat(MISS_MARGIN) * f2) * dd;
+        // `Sphere::departs`: `f.dot(dir)` as glam writes it.
+        let fd = fx * dx + fy * dy + fz * dz;
+        let departs = fd.cmp_gt(f32x4::ZERO) & f2.cmp_gt(r2);
+        let rejected = (cross2.cmp_gt(bound) | departs).move_mask() as u32;
         !rejected & self.used
     }
 

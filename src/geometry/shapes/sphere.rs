@@ -49,7 +49,20 @@ impl Sphere {
     /// direction and the length of the ray's direction.
     #[inline]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
+        if self.departs(ray) {
+            return None;
+        }
         self.roots(ray)?.crossing(t_min, t_max)
+    }
+
+    /// Whether the ray starts outside the sphere and moves away from its
+    /// centre (`f·D > 0` and `|f|² > r²`), so that it meets the sphere at
+    /// no `t > 0`: most rays leaving a sphere, and every ray leaving the
+    /// big ground sphere of a scene, are done here without a root.
+    #[inline(always)]
+    pub fn departs(&self, ray: &Ray) -> bool {
+        let f = ray.origin - self.center;
+        f.dot(ray.dir) > 0.0 && f.length_squared() > self.radius * self.radius
     }
 
     /// Whether `p` is inside the ball by more than the rounding of
@@ -92,13 +105,17 @@ impl Sphere {
     /// The hit at crossing `c` of `ray`, as [`Sphere::intersect`] has it.
     #[inline]
     pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
-        let (t, len, r) = (c.data.x, c.data.y, self.radius);
-        let d = ray.dir / len;
+        let r = self.radius;
         // Reproject the point onto the sphere: its error is then a few
         // roundings of the radius and of the final sum (pbrt-v4).
         // A negative radius turns the normal inwards (a hollow bubble).
-        let rel = ray.origin + t * d - self.center;
-        let outward = (rel / rel.length()).normalize_or(Vec3::Y);
+        // One normalisation of the point's offset from the centre, found
+        // from the crossing's own `t`: the hit's chain of dependent roots
+        // and divisions was the spheres' longest outside the walk (a second
+        // normalisation and a unit direction cost the random spheres 1/1.07
+        // of their speed, docs/performance.md, session 23).
+        let rel = ray.origin + c.t * ray.dir - self.center;
+        let outward = rel.normalize_or(Vec3::Y);
         let rel = outward * r.abs();
         let point = self.center + rel;
         let normal = outward * r.signum();
@@ -288,6 +305,49 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_departing_ray_is_one_the_roots_never_meet() {
+        // Rays leaving the surface (from offset origins), entering it, and
+        // from points inside and outside: `departs` says yes only where no
+        // root lies ahead, and says it for every ray leaving outwards.
+        let mut left = 0;
+        for (center, radius) in [
+            (Vec3::ZERO, 1.0),
+            (Vec3::new(1e3, -2.0, 5.0), 1e-3),
+            (Vec3::new(-1e5, 3.0, 1e5), 1.0),
+            (Vec3::new(0.0, -1000.0, 0.0), 1000.0),
+            (Vec3::new(2.0, 1.0, 0.0), -0.5),
+        ] {
+            let s = Sphere { center, radius };
+            for n in dirs() {
+                let onto = Ray::new(center + n * (3.0 * radius.abs()), -n, 0.0);
+                let h = s
+                    .intersect(&onto, 0.0, f32::INFINITY)
+                    .expect("aimed at the centre");
+                for d in dirs() {
+                    let o = offset_origin(h.point, h.error, h.normal, d);
+                    for from in [
+                        o,
+                        center + n * (0.5 * radius.abs()),
+                        center + n * (4.0 * radius.abs()),
+                    ] {
+                        let ray = Ray::new(from, d * 3.0, 0.0);
+                        let ahead = s.roots(&ray).and_then(|r| r.crossing(0.0, f32::INFINITY));
+                        if s.departs(&ray) {
+                            assert!(ahead.is_none(), "{s:?} {ray:?} departs but meets {ahead:?}");
+                        }
+                    }
+                    let leaving = Ray::new(o, d, 0.0);
+                    if d.dot(n) > 1e-3 {
+                        assert!(s.departs(&leaving), "{s:?} {leaving:?} leaves outwards");
+                        left += 1;
+                    }
+                }
+            }
+        }
+        assert!(left > 1000, "{left}");
     }
 
     #[test]
