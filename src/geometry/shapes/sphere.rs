@@ -38,6 +38,8 @@ impl Sphere {
     /// first: the ray's line passes the centre at distance `|f × D| / |D|`,
     /// and when `|f × D|²` exceeds `r²|D|²` by more than its rounding error
     /// (a few ε of `|f|²|D|²`, bounded by the margin below) the line misses.
+    /// Before it, a ray that starts outside and moves away
+    /// ([`Sphere::departs`]) is done.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
         let c = self.crossing(ray, t_min, t_max)?;
