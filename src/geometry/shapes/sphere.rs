@@ -47,8 +47,9 @@ impl Sphere {
     }
 
     /// The nearest crossing with `t` in `(t_min, t_max)` (see
-    /// [`Sphere::intersect`]); its data holds the distance along the unit
-    /// direction and the length of the ray's direction.
+    /// [`Sphere::intersect`]); its data holds the root it took, the
+    /// distance along the unit direction, by which [`Roots::first_after`]
+    /// tells the near root from the far one.
     #[inline]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         if self.departs(ray) {
@@ -169,7 +170,7 @@ impl Roots {
         };
         Some(Crossing {
             t: t / self.len,
-            data: Vec3::new(t, self.len, 0.0),
+            data: Vec3::new(t, 0.0, 0.0),
         })
     }
 
