@@ -1,9 +1,12 @@
 //! Determinism: the same scene and seed give bit-identical pixels with any
-//! thread count and for any crop of the image.
+//! thread count, for any crop of the image and however a pixel's samples
+//! are grouped.
+
+use std::sync::atomic::AtomicBool;
 
 use rtlang::geometry::World;
 use rtlang::render::scenes::{book2_final, cornell_box};
-use rtlang::render::{render, Crop, RenderOptions};
+use rtlang::render::{render, render_film, Crop, Film, Hooks, RenderOptions};
 use rtlang::sampling::SamplerKind;
 
 #[test]
@@ -63,4 +66,43 @@ fn a_crop_outside_the_image_is_refused() {
         y1: 4,
     });
     assert!(render(&scene, &world, &options, &|_| {}).is_err());
+}
+
+/// A pixel's camera rays are traced together, a block of the sampler at a
+/// time (a packet): a render that reaches 11 spp in other groupings (3 then
+/// 11, so packets of 1, 2, 5 and 3 samples, against 1, 7 and 3), or on
+/// another number of threads, gives the same bits.
+#[test]
+fn camera_rays_traced_together_give_each_samples_own_bits() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spheres.rt");
+    let scene = rtlang::lang::load_scene(std::path::Path::new(path), &[])
+        .unwrap_or_else(|_| panic!("{path} loads"))
+        .scene;
+    let world = World::build(&scene).expect("builds");
+    assert!(
+        world.first_hits(&[], 0.0, &mut []),
+        "the spheres walk as packets"
+    );
+    let mut options = RenderOptions::from_settings(&scene.settings);
+    (options.width, options.height, options.max_depth) = (40, 24, 8);
+    options.threads = Some(1);
+    options.spp = 11;
+    let region = options.region().expect("valid");
+    let direct = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert!(direct.pixels.iter().any(|p| p.max_element() > 0.0));
+    options.threads = Some(3);
+    let threads = render(&scene, &world, &options, &|_| {}).expect("renders");
+    assert_eq!(direct.pixels, threads.pixels);
+    let mut film = Film::new(region);
+    let stop = AtomicBool::new(false);
+    for spp in [3, 11] {
+        options.spp = spp;
+        let mut hooks = Hooks {
+            stop: &stop,
+            tile_done: &|_| {},
+            round_done: &mut |_| {},
+        };
+        render_film(&scene, &world, &options, &mut film, &mut hooks).expect("renders");
+    }
+    assert_eq!(film.pixels(), direct.pixels);
 }

@@ -116,6 +116,25 @@ impl World {
         }
     }
 
+    /// The nearest hits of up to [`super::bvh::PACKET`] rays from `t_min` on that cross
+    /// much the same boxes (a pixel's camera rays), written into `out`, when
+    /// the world is one set of primitives that is not flat (no medium, no
+    /// instance): see [`PrimitiveSet::first_hits`], whose hit of a ray does
+    /// not depend on the rays beside it. `false` (and nothing written)
+    /// elsewhere: the caller traces the rays one by one.
+    pub fn first_hits(&self, rays: &[Ray], t_min: f32, out: &mut [Option<Hit>]) -> bool {
+        match &self.root {
+            Root::Bare(g) => match g.as_ref() {
+                Geometry::Primitives(set) if !set.is_flat() => {
+                    set.first_hits(rays, t_min, out);
+                    true
+                }
+                _ => false,
+            },
+            Root::Placed(_) => false,
+        }
+    }
+
     /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {

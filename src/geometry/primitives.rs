@@ -1,9 +1,10 @@
 //! Many analytic primitives (spheres, turned spheres, rects, parallelograms,
 //! boxes, triangles) with their materials and light ids in flat arrays under
 //! one BVH. A walk tests candidates for their [`Crossing`] only and builds
-//! the surface data of the nearest one.
+//! the surface data of the nearest one; up to eight rays may walk it
+//! together ([`PrimitiveSet::first_hits`]).
 
-use super::bvh::Leaves;
+use super::bvh::{Leaves, PACKET};
 use super::emitter::LightId;
 use super::flat::{FlatFaces, Hits8, Nearest8, RAYS};
 use super::hit::facing;
@@ -215,6 +216,74 @@ impl PrimitiveSet {
         Some(facing(h, h.normal, ray.dir, material, light))
     }
 
+    /// The nearest hits in `(t_min, ∞)` of up to [`PACKET`] rays that cross
+    /// much the same boxes (a pixel's camera rays), facing their rays,
+    /// written into `out` (one per ray). They are found in one walk of the
+    /// packet ([`Bvh::traverse_packet`]), a flat set's a ray at a time. A
+    /// ray's hit does not depend on the rays beside it nor on the order the
+    /// walk shows it the leaves: it is the crossing with the least `t`,
+    /// ties going to the lowest slot (the one-ray walk keeps the first it
+    /// finds, so the two part only where two surfaces meet a ray at one
+    /// `t`). Every crossing is found out to infinity and compared after.
+    pub fn first_hits(&self, rays: &[Ray], t_min: f32, out: &mut [Option<Hit>]) {
+        if self.flat.is_some() {
+            for (ray, hit) in rays.iter().zip(out.iter_mut()) {
+                *hit = self.intersect_facing(ray, t_min, f32::INFINITY);
+            }
+            return;
+        }
+        let mut t_max = [f32::INFINITY; PACKET];
+        let mut best: [Option<(Crossing, usize)>; PACKET] = [None; PACKET];
+        let mut keep = |k: usize, slot: usize, c: Crossing, t_max: &mut [f32; PACKET]| {
+            // Below the best (t, slot) so far; never a crossing at infinity.
+            let closer =
+                c.t < t_max[k] || (c.t == t_max[k] && best[k].is_some_and(|(_, s)| slot < s));
+            if closer {
+                best[k] = Some((c, slot));
+                t_max[k] = c.t;
+            }
+        };
+        self.bvh.traverse_packet(
+            rays,
+            &mut t_max,
+            #[inline(always)]
+            |first, count, mask, t_max| {
+                if let Some(leaf) = self.spheres.get(first) {
+                    for k in slots(0, mask) {
+                        let ray = &rays[k];
+                        let lanes = leaf.candidates(ray);
+                        if lanes == 0 {
+                            continue;
+                        }
+                        let roots = leaf.roots(ray);
+                        for slot in slots(first, lanes) {
+                            let c =
+                                roots[slot - first].and_then(|r| r.crossing(t_min, f32::INFINITY));
+                            if let Some(c) = c {
+                                keep(k, slot, c, t_max);
+                            }
+                        }
+                    }
+                } else {
+                    for k in slots(0, mask) {
+                        for slot in first..first + count {
+                            let c = self.prims[slot].crossing(&rays[k], t_min, f32::INFINITY);
+                            if let Some(c) = c {
+                                keep(k, slot, c, t_max);
+                            }
+                        }
+                    }
+                }
+            },
+        );
+        for ((ray, hit), found) in rays.iter().zip(out.iter_mut()).zip(best) {
+            *hit = found.map(|(c, slot)| {
+                let (h, material, light) = self.hit(slot, ray, &c);
+                facing(h, h.normal, ray.dir, material, light)
+            });
+        }
+    }
+
     /// [`PrimitiveSet::intersect_facing`] of a flat set, built in the one
     /// function that writes the caller's result. Kept out of line: inlined,
     /// it made the walk's own code too large to inline its tests, and the
@@ -330,5 +399,105 @@ impl PrimitiveSet {
     /// Whether the set holds no primitive.
     pub fn is_empty(&self) -> bool {
         self.prims.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::sampling::rng::numbers;
+
+    /// A hit's bits (uv aside, which only a texture reads): t, point,
+    /// error, normal, side and material.
+    type Bits = (u32, [[u32; 3]; 3], bool, u32);
+
+    fn bits(h: &Option<Hit>) -> Option<Bits> {
+        let v = |v: Vec3| v.to_array().map(f32::to_bits);
+        h.map(|h| {
+            let vectors = [v(h.point), v(h.error), v(h.normal)];
+            (h.t.to_bits(), vectors, h.front_face, h.material.0)
+        })
+    }
+
+    /// A packet's hits are each ray's least (t, slot) crossing, the same
+    /// traced alone or beside any other rays, and the one-ray walk's hit
+    /// where no two surfaces meet the ray at one `t`. The set holds random
+    /// spheres (some twice, at one place, with other materials: ties),
+    /// triangles among them, and a ground sphere far larger than the rest.
+    #[test]
+    fn a_packets_hits_are_each_rays_own_whatever_its_packet() {
+        let mut r = numbers(21);
+        let mut items = Vec::new();
+        let id = |items: &Vec<_>| MaterialId(items.len() as u32);
+        items.push((
+            Primitive::Sphere(Sphere {
+                center: Vec3::new(0.0, -1000.0, 0.0),
+                radius: 1000.0,
+            }),
+            MaterialId(0),
+            LightId::NONE,
+        ));
+        for k in 0..300 {
+            let center = Vec3::new(r() * 20.0 - 10.0, r() * 2.0, r() * 20.0 - 10.0);
+            let radius = 0.05 + r() * 0.5;
+            let s = Primitive::Sphere(Sphere { center, radius });
+            items.push((s, id(&items), LightId::NONE));
+            if k % 10 == 0 {
+                items.push((s, id(&items), LightId::NONE));
+            }
+            if k % 7 == 0 {
+                let v = [0, 1, 2].map(|_| center + Vec3::new(r(), r(), r()) - 0.5);
+                items.push((
+                    Primitive::Triangle(Triangle { v }),
+                    id(&items),
+                    LightId::NONE,
+                ));
+            }
+        }
+        let set = PrimitiveSet::new(items);
+        assert!(!set.is_flat());
+        let (mut ties, mut hits) = (0, 0);
+        for p in 0..400 {
+            let n = 1 + p % PACKET;
+            let from = Vec3::new(r() * 30.0 - 15.0, 0.5 + r() * 4.0, r() * 30.0 - 15.0);
+            let to = Vec3::new(r() * 20.0 - 10.0, r() * 2.0 - 0.5, r() * 20.0 - 10.0);
+            let spread = if p % 3 == 0 { 10.0 } else { 0.3 };
+            let rays: Vec<Ray> = (0..n)
+                .map(|_| {
+                    let at = to + Vec3::new(r(), r(), r()) * spread;
+                    Ray::new(from, (at - from).normalize(), 0.0)
+                })
+                .collect();
+            let mut packet = [None; PACKET];
+            set.first_hits(&rays, 0.0, &mut packet[..n]);
+            for (k, ray) in rays.iter().enumerate() {
+                let mut alone = [None];
+                set.first_hits(std::slice::from_ref(ray), 0.0, &mut alone);
+                assert_eq!(bits(&packet[k]), bits(&alone[0]), "packet {p}, ray {k}");
+                // By brute force: the least (t, slot).
+                let least = (0..set.prims.len())
+                    .filter_map(|s| Some((set.prims[s].crossing(ray, 0.0, f32::INFINITY)?.t, s)))
+                    .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let found = packet[k].map(|h| (h.t, h.material));
+                assert_eq!(found, least.map(|(t, s)| (t, set.materials[s])));
+                let tied = least.is_some_and(|(t, s)| {
+                    (0..set.prims.len()).any(|o| {
+                        o != s
+                            && set.prims[o].crossing(ray, 0.0, f32::INFINITY).map(|c| c.t)
+                                == Some(t)
+                    })
+                });
+                if tied {
+                    ties += 1;
+                } else {
+                    let one = set.intersect_facing(ray, 0.0, f32::INFINITY);
+                    assert_eq!(bits(&packet[k]), bits(&one), "packet {p}, ray {k}");
+                }
+                hits += usize::from(packet[k].is_some());
+            }
+        }
+        assert!(ties > 20 && hits > 1000, "{ties} ties, {hits} hits");
     }
 }

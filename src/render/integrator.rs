@@ -12,6 +12,8 @@
 //! along each (exponential in the density); shadow rays through media carry
 //! the exact transmittance of a homogeneous medium.
 
+use std::ops::Range;
+
 use glam::Vec3;
 
 use super::bsdf::BsdfSample;
@@ -19,10 +21,12 @@ use super::camera::CameraRays;
 use super::lights::LightList;
 use super::material;
 use super::options::RenderOptions;
+use crate::geometry::bvh::PACKET;
 use crate::geometry::emitter::LightId;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
+use crate::sampling::sampler::Position;
 use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, MaterialId, Scene};
 
@@ -140,24 +144,69 @@ impl<'a> Tracer<'a> {
     /// The radiance of sample `index` of pixel `(x, y)` and the rays traced
     /// for it: the one place a sample's random stream, camera ray and path
     /// are tied together, shared by the film and by the preview's probe so
-    /// that a probe re-traces exactly the film's samples.
+    /// that a probe re-traces exactly the film's samples. It is
+    /// [`Tracer::samples`] for one sample.
     #[inline]
     pub fn sample(
         &self,
         camera: &CameraRays,
         sampler: &mut Sampler,
-        (x, y): (u32, u32),
+        pixel: (u32, u32),
         index: u32,
     ) -> (Vec3, u32) {
-        sampler.start(x, y, index);
-        let ray = camera.ray(x, y, sampler);
-        self.radiance(ray, sampler)
+        let mut out = (Vec3::ZERO, 0);
+        self.samples(camera, sampler, pixel, index..index + 1, |l, rays| {
+            out = (l, rays)
+        });
+        out
+    }
+
+    /// The samples `indices` of pixel `(x, y)` (at most [`PACKET`], in one
+    /// block of the sampler), each given to `each` as its radiance and rays
+    /// traced, in index order. Their camera rays are drawn first and, where
+    /// the world can ([`World::first_hits`]), traced together; each sample's
+    /// hit is the one it has traced alone, so any grouping of a pixel's
+    /// samples gives the same numbers.
+    #[inline]
+    pub fn samples(
+        &self,
+        camera: &CameraRays,
+        sampler: &mut Sampler,
+        (x, y): (u32, u32),
+        indices: Range<u32>,
+        mut each: impl FnMut(Vec3, u32),
+    ) {
+        let n = indices.len();
+        debug_assert!(n <= PACKET);
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::X, 0.0); PACKET];
+        let mut at: [Option<Position>; PACKET] = Default::default();
+        for (k, index) in indices.enumerate() {
+            sampler.start(x, y, index);
+            rays[k] = camera.ray(x, y, sampler);
+            at[k] = Some(sampler.position());
+        }
+        let mut hits = [None; PACKET];
+        let together = self.world.first_hits(&rays[..n], 0.0, &mut hits[..n]);
+        for k in 0..n {
+            if let Some(position) = at[k].take() {
+                sampler.resume(position);
+            }
+            let first = together.then_some(hits[k]);
+            let (l, traced) = self.radiance(rays[k], first, sampler);
+            each(l, traced);
+        }
     }
 
     /// The radiance arriving along `ray` (unit direction) and the number of
-    /// rays traced for it (shadow rays included).
+    /// rays traced for it (shadow rays included); its first surface hit is
+    /// `first` when the caller found it already (in a world without media).
     #[inline]
-    pub fn radiance(&self, mut ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
+    pub fn radiance(
+        &self,
+        mut ray: Ray,
+        mut first: Option<Option<Hit>>,
+        sampler: &mut Sampler,
+    ) -> (Vec3, u32) {
         let lights = self.lights;
         let nee = self.light_sampling && !lights.is_empty();
         let mut radiance = Vec3::ZERO;
@@ -172,9 +221,12 @@ impl<'a> Tracer<'a> {
             // before the intersection, they are computed beside it. (Drawing
             // the light point's ahead too was slower.)
             sampler.draw_ahead(Dim::Bsdf);
-            let surface = self
-                .world
-                .intersect_in_media(&ray, 0.0, f32::INFINITY, &mut media);
+            let surface = match first.take() {
+                Some(hit) => hit,
+                None => self
+                    .world
+                    .intersect_in_media(&ray, 0.0, f32::INFINITY, &mut media),
+            };
             let t_end = surface.map_or(f32::INFINITY, |h| h.t);
             let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
             let in_medium = scattered.is_some();

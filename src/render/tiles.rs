@@ -27,6 +27,9 @@ use crate::scene::Scene;
 /// Tile edge in pixels.
 const TILE: u32 = 16;
 
+// A block of the sampler is one packet of camera rays ([`Tracer::samples`]).
+const _: () = assert!(BLOCK as usize <= crate::geometry::bvh::PACKET);
+
 /// Most samples per pixel added in one round.
 const ROUND_MAX: u32 = 16;
 
@@ -393,6 +396,23 @@ impl Job<'_> {
                                 px.add(l, rays, self.clamp, &mut r);
                             }
                             s += count as u32;
+                        }
+                    }
+                    None if self.noise.is_none() => {
+                        // A block of the sampler at a time, so that the
+                        // block's camera rays are traced together.
+                        let mut s = film.taken[i];
+                        while s < self.target {
+                            let index = self.first + s;
+                            let count = (BLOCK - index % BLOCK).min(self.target - s);
+                            self.tracer.samples(
+                                self.camera,
+                                &mut sampler,
+                                (x, y),
+                                index..index + count,
+                                |l, rays| px.add(l, rays, self.clamp, &mut r),
+                            );
+                            s += count;
                         }
                     }
                     None => {

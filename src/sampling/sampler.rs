@@ -87,18 +87,8 @@ const CACHED_SLOTS: usize = (CAMERA_SLOTS + 10 * BOUNCE_SLOTS) as usize;
 pub struct Sampler {
     kind: SamplerKind,
     seed: u64,
-    /// The independent stream: every draw of the independent sampler
-    /// (unseeded for the Sobol' sampler, which never draws from it).
-    rng: Rng,
-    /// Hash of (seed, pixel): the root of every slot's scramble seeds.
-    pixel: u64,
-    /// The sample index: its block is `index / BLOCK`, and the scrambles
-    /// of a draw made alone read its bits reversed.
-    index: u32,
-    bounce: u32,
-    slot: u32,
-    /// The draw [`Sampler::draw_ahead`] made, with its slot.
-    ahead: Held,
+    /// Where the current sample's draws stand.
+    at: Position,
     /// The draws kept per slot (none for a one-off sampler or the
     /// independent one).
     blocks: Vec<Block>,
@@ -131,6 +121,25 @@ impl Block {
         block: u32::MAX,
         draws: [[0.0; sobol8::LANES]; 2],
     };
+}
+
+/// A sample's place in its draws, which [`Sampler::position`] gives and
+/// [`Sampler::resume`] returns to; the kept blocks are not part of it, as
+/// they hold the same numbers for every sample.
+#[derive(Clone, Debug)]
+pub struct Position {
+    /// The independent stream: every draw of the independent sampler
+    /// (unseeded for the Sobol' sampler, which never draws from it).
+    rng: Rng,
+    /// Hash of (seed, pixel): the root of every slot's scramble seeds.
+    pixel: u64,
+    /// The sample index: its block is `index / BLOCK`, and the scrambles
+    /// of a draw made alone read its bits reversed.
+    index: u32,
+    bounce: u32,
+    slot: u32,
+    /// The draw [`Sampler::draw_ahead`] made, with its slot.
+    ahead: Held,
 }
 
 /// A 2-D draw made ahead of its use, and its slot (`u64::MAX`, no slot,
@@ -175,26 +184,41 @@ impl Sampler {
         Sampler {
             kind,
             seed,
-            rng: Rng::UNUSED,
-            pixel: 0,
-            index: 0,
-            bounce: 0,
-            slot: 0,
-            ahead: Held::NONE,
+            at: Position {
+                rng: Rng::UNUSED,
+                pixel: 0,
+                index: 0,
+                bounce: 0,
+                slot: 0,
+                ahead: Held::NONE,
+            },
             blocks: vec![Block::NONE; slots],
         }
+    }
+
+    /// Where the current sample's draws stand, to come back to with
+    /// [`Sampler::resume`] after other samples drew (a pixel's camera rays
+    /// are drawn together, then each sample's path).
+    pub fn position(&self) -> Position {
+        self.at.clone()
+    }
+
+    /// Returns to a sample's draws where [`Sampler::position`] left them:
+    /// the draws that follow are those that would have followed then.
+    pub fn resume(&mut self, at: Position) {
+        self.at = at;
     }
 
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
     pub fn start(&mut self, x: u32, y: u32, index: u32) {
         if self.kind == SamplerKind::Independent {
-            self.rng = Rng::for_sample(self.seed, x, y, index);
+            self.at.rng = Rng::for_sample(self.seed, x, y, index);
         }
-        self.pixel = self.pixel_seeds(x, y).0;
-        self.index = index;
-        self.bounce = 0;
-        self.slot = 0;
-        self.ahead = Held::NONE;
+        self.at.pixel = self.pixel_seeds(x, y).0;
+        self.at.index = index;
+        self.at.bounce = 0;
+        self.at.slot = 0;
+        self.at.ahead = Held::NONE;
     }
 
     /// The Sobol' 2-D draw of `slot` from its kept block (computing the
@@ -202,12 +226,12 @@ impl Sampler {
     /// draws are not kept.
     #[inline]
     fn kept(&mut self, slot: u32) -> Option<Vec2> {
-        let (pixel, block) = (self.pixel, self.index / BLOCK);
+        let (pixel, block) = (self.at.pixel, self.at.index / BLOCK);
         let kept = self.blocks.get_mut(slot as usize)?;
         if kept.pixel != pixel || kept.block != block {
             kept.fill(pixel, block, slot);
         }
-        let lane = (self.index % BLOCK) as usize;
+        let lane = (self.at.index % BLOCK) as usize;
         Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 
@@ -222,19 +246,19 @@ impl Sampler {
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
     #[inline]
     pub fn start_bounce(&mut self, depth: u32) {
-        self.bounce = depth;
+        self.at.bounce = depth;
     }
 
     /// Moves to the first slot of `dim` (in the current bounce).
     #[inline]
     pub fn begin(&mut self, dim: Dim) {
-        self.slot = self.slot_of(dim);
+        self.at.slot = self.slot_of(dim);
     }
 
     /// The first slot of `dim` in the current bounce.
     #[inline]
     fn slot_of(&self, dim: Dim) -> u32 {
-        slot_in(self.bounce, dim)
+        slot_in(self.at.bounce, dim)
     }
 
     /// Makes now the 2-D draw of the first slot of `dim` in the current
@@ -254,7 +278,7 @@ impl Sampler {
         if (slot as usize) < self.blocks.len() {
             return;
         }
-        self.ahead = Held {
+        self.at.ahead = Held {
             slot: u64::from(slot),
             value: self.sobol_2d(slot),
         };
@@ -263,14 +287,14 @@ impl Sampler {
     /// The held draw of `slot`, if [`Sampler::draw_ahead`] made it.
     #[inline]
     fn held(&self, slot: u32) -> Option<Vec2> {
-        (self.ahead.slot == u64::from(slot)).then_some(self.ahead.value)
+        (self.at.ahead.slot == u64::from(slot)).then_some(self.at.ahead.value)
     }
 
     /// The Sobol' 2-D draw of `slot`, computed alone.
     #[inline]
     fn sobol_2d(&self, slot: u32) -> Vec2 {
-        let seeds = slot_seeds(self.pixel, slot);
-        let (a, b) = sobol::point2(self.index, seeds);
+        let seeds = slot_seeds(self.at.pixel, slot);
+        let (a, b) = sobol::point2(self.at.index, seeds);
         Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
     }
 
@@ -278,15 +302,15 @@ impl Sampler {
     #[inline(always)]
     pub fn next_1d(&mut self) -> f32 {
         match self.kind {
-            SamplerKind::Independent => self.rng.next_f32(),
+            SamplerKind::Independent => self.at.rng.next_f32(),
             SamplerKind::Sobol => {
-                let slot = self.slot;
-                self.slot = slot.wrapping_add(1);
+                let slot = self.at.slot;
+                self.at.slot = slot.wrapping_add(1);
                 if let Some(v) = self.held(slot).or_else(|| self.kept(slot)) {
                     return v.x;
                 }
-                let h = slot_hash(self.pixel, slot);
-                sobol::to_unit(sobol::point1(self.index, [h as u32, (h >> 32) as u32]))
+                let h = slot_hash(self.at.pixel, slot);
+                sobol::to_unit(sobol::point1(self.at.index, [h as u32, (h >> 32) as u32]))
             }
         }
     }
@@ -297,9 +321,9 @@ impl Sampler {
     pub fn skip_1d(&mut self) {
         match self.kind {
             SamplerKind::Independent => {
-                self.rng.next_u32();
+                self.at.rng.next_u32();
             }
-            SamplerKind::Sobol => self.slot = self.slot.wrapping_add(1),
+            SamplerKind::Sobol => self.at.slot = self.at.slot.wrapping_add(1),
         }
     }
 
@@ -307,7 +331,7 @@ impl Sampler {
     #[inline]
     pub fn skip_2d(&mut self) {
         if self.kind == SamplerKind::Independent {
-            self.rng.next_u32();
+            self.at.rng.next_u32();
         }
         self.skip_1d();
     }
@@ -317,16 +341,16 @@ impl Sampler {
     pub fn next_2d(&mut self) -> Vec2 {
         match self.kind {
             SamplerKind::Independent => {
-                let x = self.rng.next_f32();
-                Vec2::new(x, self.rng.next_f32())
+                let x = self.at.rng.next_f32();
+                Vec2::new(x, self.at.rng.next_f32())
             }
             SamplerKind::Sobol => {
-                let slot = self.slot;
+                let slot = self.at.slot;
                 let v = match self.held(slot).or_else(|| self.kept(slot)) {
                     Some(v) => v,
                     None => self.sobol_2d(slot),
                 };
-                self.slot = slot.wrapping_add(1);
+                self.at.slot = slot.wrapping_add(1);
                 v
             }
         }

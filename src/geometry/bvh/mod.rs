@@ -13,9 +13,11 @@
 //! The hierarchy knows only boxes: the caller reorders its primitives by the
 //! permutation [`Bvh::build`] returns and intersects them in a visitor closure,
 //! a slot or a leaf at a time; it tells the builder whether its leaves are
-//! tested one primitive at a time or four at once ([`Leaves`]).
+//! tested one primitive at a time or four at once ([`Leaves`]). Up to eight
+//! rays that cross much the same boxes can walk it together ([`packet`]).
 
 mod node;
+mod packet;
 mod sah;
 
 use arrayvec::ArrayVec;
@@ -24,6 +26,7 @@ use super::{Aabb, Ray};
 #[cfg(target_arch = "x86_64")]
 pub(crate) use node::avx;
 use node::{node_hit, BoxRay, BvhNode, WIDTH};
+pub use packet::PACKET;
 use sah::BinaryNode;
 
 /// Depth of the traversal stack: a node pushes at most 7 more entries than
