@@ -563,13 +563,13 @@ mod tests {
             let mut slots = Vec::new();
             for dim in [Dim::Light, Dim::Bsdf, Dim::Roulette] {
                 s.begin(dim);
-                slots.push(s.slot);
+                slots.push(s.at.slot);
             }
             // Light takes 3 slots (choice, point), the BSDF 2 (direction, lobe).
             slots.extend([slots[0] + 1, slots[1] + 1]);
             slots.extend((0..16).map(|k| {
                 s.begin(Dim::Medium(k));
-                s.slot
+                s.at.slot
             }));
             for slot in slots {
                 assert!(seen.insert(slot), "bounce {bounce}: slot {slot} twice");
@@ -577,7 +577,7 @@ mod tests {
         }
         s.begin(Dim::Camera);
         for slot in 0..CAMERA_SLOTS {
-            assert!(seen.insert(s.slot + slot), "camera slot {slot} reused");
+            assert!(seen.insert(s.at.slot + slot), "camera slot {slot} reused");
         }
     }
 
