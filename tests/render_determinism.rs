@@ -68,12 +68,13 @@ fn a_crop_outside_the_image_is_refused() {
     assert!(render(&scene, &world, &options, &|_| {}).is_err());
 }
 
-/// A pixel's camera rays are traced together, a block of the sampler at a
-/// time (a packet): a render that reaches 11 spp in other groupings (3 then
-/// 11, so packets of 1, 2, 5 and 3 samples, against 1, 7 and 3), or on
-/// another number of threads, gives the same bits.
+/// A pixel's paths go side by side, a block of the sampler at a time, and
+/// each bounce's rays walk the BVH together (a packet): a render that
+/// reaches 11 spp in other groupings (3 then 11, so packets of 1, 2, 5 and
+/// 3 samples, against 1, 7 and 3), or on another number of threads, gives
+/// the same bits.
 #[test]
-fn camera_rays_traced_together_give_each_samples_own_bits() {
+fn paths_traced_together_give_each_samples_own_bits() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spheres.rt");
     let scene = rtlang::lang::load_scene(std::path::Path::new(path), &[])
         .unwrap_or_else(|_| panic!("{path} loads"))

@@ -11,6 +11,10 @@
 //! of a ray inside them and the integrator samples the free-flight distance
 //! along each (exponential in the density); shadow rays through media carry
 //! the exact transmittance of a homogeneous medium.
+//!
+//! In a world of one set of primitives, the paths of a pixel's block of
+//! samples go side by side, bounce by bounce, so that each bounce's rays
+//! walk the BVH as one packet ([`Tracer::samples`]).
 
 use std::ops::Range;
 
@@ -61,6 +65,41 @@ pub(super) fn survival(throughput: Vec3, in_medium: bool) -> f32 {
         m.min(0.95)
     } else {
         m / ROULETTE_WEIGHT
+    }
+}
+
+/// One path between bounces: the ray it goes on along, what it has
+/// gathered, what it still carries, and the rays it has traced.
+#[derive(Clone, Copy)]
+struct Path {
+    ray: Ray,
+    radiance: Vec3,
+    throughput: Vec3,
+    previous: Previous,
+    rays: u32,
+}
+
+impl Path {
+    /// A path starting along `ray` (a camera ray).
+    fn new(ray: Ray) -> Path {
+        Path {
+            ray,
+            radiance: Vec3::ZERO,
+            throughput: Vec3::ONE,
+            previous: Previous::Specular,
+            rays: 0,
+        }
+    }
+
+    /// Counts bounce `depth`'s ray, before it is traced, and draws the
+    /// numbers of its scattering ahead: they do not depend on the hit, so
+    /// they are computed beside the intersection. (Drawing the light
+    /// point's ahead too was slower.)
+    #[inline]
+    fn start_bounce(&mut self, depth: u32, sampler: &mut Sampler) {
+        self.rays += 1;
+        sampler.start_bounce(depth);
+        sampler.draw_ahead(Dim::Bsdf);
     }
 }
 
@@ -163,10 +202,11 @@ impl<'a> Tracer<'a> {
 
     /// The samples `indices` of pixel `(x, y)` (at most [`PACKET`], in one
     /// block of the sampler), each given to `each` as its radiance and rays
-    /// traced, in index order. Their camera rays are drawn first and, where
-    /// the world can ([`World::first_hits`]), traced together; each sample's
-    /// hit is the one it has traced alone, so any grouping of a pixel's
-    /// samples gives the same numbers.
+    /// traced, in index order. Where the world can ([`World::first_hits`]),
+    /// their paths go side by side, bounce by bounce, and each bounce's rays
+    /// are traced together; a ray's hit is the one it has traced alone, so
+    /// any grouping of a pixel's samples gives the same numbers. Elsewhere
+    /// the paths are traced one after the other.
     #[inline]
     pub fn samples(
         &self,
@@ -178,116 +218,151 @@ impl<'a> Tracer<'a> {
     ) {
         let n = indices.len();
         debug_assert!(n <= PACKET);
-        let mut rays = [Ray::new(Vec3::ZERO, Vec3::X, 0.0); PACKET];
-        let mut at: [Option<Position>; PACKET] = Default::default();
+        let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
+        let mut at: [Position; PACKET] = std::array::from_fn(|_| sampler.position());
         for (k, index) in indices.enumerate() {
             sampler.start(x, y, index);
-            rays[k] = camera.ray(x, y, sampler);
-            at[k] = Some(sampler.position());
+            paths[k] = Path::new(camera.ray(x, y, sampler));
+            sampler.save(&mut at[k]);
         }
-        let mut hits = [None; PACKET];
-        let together = self.world.first_hits(&rays[..n], 0.0, &mut hits[..n]);
-        for k in 0..n {
-            if let Some(position) = at[k].take() {
+        if !self.world.traces_packets() {
+            for (path, position) in paths[..n].iter_mut().zip(&at) {
                 sampler.resume(position);
+                self.trace(path, sampler);
+                each(path.radiance, path.rays);
             }
-            let first = together.then_some(hits[k]);
-            let (l, traced) = self.radiance(rays[k], first, sampler);
-            each(l, traced);
+            return;
+        }
+        let mut media = MediumSegments::default();
+        let mut live = (1u32 << n) - 1;
+        let mut depth = 0;
+        while live != 0 && depth < self.max_depth {
+            let mut rays = [paths[0].ray; PACKET];
+            let mut lane = [0; PACKET];
+            let mut m = 0;
+            for k in (0..n).filter(|k| live >> k & 1 != 0) {
+                sampler.resume(&at[k]);
+                paths[k].start_bounce(depth, sampler);
+                sampler.save(&mut at[k]);
+                (rays[m], lane[m]) = (paths[k].ray, k);
+                m += 1;
+            }
+            let mut hits = [None; PACKET];
+            self.world.first_hits(&rays[..m], 0.0, &mut hits[..m]);
+            for (&k, &hit) in lane[..m].iter().zip(&hits) {
+                sampler.resume(&at[k]);
+                if !self.bounce(&mut paths[k], depth, hit, &mut media, sampler) {
+                    live &= !(1 << k);
+                }
+                sampler.save(&mut at[k]);
+            }
+            depth += 1;
+        }
+        for path in &paths[..n] {
+            each(path.radiance, path.rays);
         }
     }
 
     /// The radiance arriving along `ray` (unit direction) and the number of
-    /// rays traced for it (shadow rays included); its first surface hit is
-    /// `first` when the caller found it already (in a world without media).
+    /// rays traced for it (shadow rays included).
     #[inline]
-    pub fn radiance(
-        &self,
-        mut ray: Ray,
-        mut first: Option<Option<Hit>>,
-        sampler: &mut Sampler,
-    ) -> (Vec3, u32) {
-        let lights = self.lights;
-        let nee = self.light_sampling && !lights.is_empty();
-        let mut radiance = Vec3::ZERO;
-        let mut throughput = Vec3::ONE;
-        let mut previous = Previous::Specular;
-        let mut rays = 0u32;
+    pub fn radiance(&self, ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
+        let mut path = Path::new(ray);
+        self.trace(&mut path, sampler);
+        (path.radiance, path.rays)
+    }
+
+    /// Traces `path` to its end, one ray after the other.
+    #[inline]
+    fn trace(&self, path: &mut Path, sampler: &mut Sampler) {
         let mut media = MediumSegments::default();
         for depth in 0..self.max_depth {
-            rays += 1;
-            sampler.start_bounce(depth);
-            // The direction's numbers do not depend on the hit: drawn
-            // before the intersection, they are computed beside it. (Drawing
-            // the light point's ahead too was slower.)
-            sampler.draw_ahead(Dim::Bsdf);
-            let surface = match first.take() {
-                Some(hit) => hit,
-                None => self
-                    .world
-                    .intersect_in_media(&ray, 0.0, f32::INFINITY, &mut media),
-            };
-            let t_end = surface.map_or(f32::INFINITY, |h| h.t);
-            let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
-            let in_medium = scattered.is_some();
-            let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
-                radiance += throughput * background(&self.scene.settings.background, ray.dir);
-                return (radiance, rays);
-            };
-            sampler.begin(Dim::Bsdf);
-            let bsdf = material::bsdf(self.scene, &hit, self.world.origin());
-            let wo = -ray.dir;
-            let sample = bsdf.sample_from(wo, sampler);
-            let emitted = bsdf.emitted();
-            if emitted != Vec3::ZERO {
-                let weight = previous.emission_weight(lights, nee, &hit);
-                radiance += throughput * emitted * weight;
+            path.start_bounce(depth, sampler);
+            let surface = self
+                .world
+                .intersect_in_media(&path.ray, 0.0, f32::INFINITY, &mut media);
+            if !self.bounce(path, depth, surface, &mut media, sampler) {
+                return;
             }
-            if nee && bsdf.samples_lights() {
-                rays += self.direct(
-                    lights,
-                    &hit,
-                    bsdf.facing(),
-                    ray.time,
-                    sampler,
-                    &mut media,
-                    |wi| bsdf.eval_pdf(wo, wi),
-                    throughput,
-                    &mut radiance,
-                );
-            }
-            let Some(BsdfSample {
-                wi: dir,
-                weight: attenuation,
-                pdf,
-                specular,
-            }) = sample
-            else {
-                return (radiance, rays);
-            };
-            previous = if specular {
-                Previous::Specular
-            } else {
-                Previous::Scattered {
-                    point: hit.point,
-                    normal: bsdf.facing(),
-                    pdf,
-                }
-            };
-            throughput *= attenuation;
-            if depth >= ROULETTE_AFTER {
-                let survive = survival(throughput, in_medium);
-                if survive < 1.0 {
-                    sampler.begin(Dim::Roulette);
-                    if sampler.next_1d() >= survive {
-                        return (radiance, rays);
-                    }
-                    throughput /= survive;
-                }
-            }
-            ray = Ray::new(hit.spawn_origin(dir), dir, ray.time);
         }
-        (radiance, rays)
+    }
+
+    /// Bounce `depth` of `path` once its ray's surface hit (`surface`) and
+    /// the stretches of media it crosses (`media`) are known: emission,
+    /// light sampling and the scattering. Returns whether the path goes on,
+    /// along its new ray.
+    #[inline]
+    fn bounce(
+        &self,
+        path: &mut Path,
+        depth: u32,
+        surface: Option<Hit>,
+        media: &mut MediumSegments,
+        sampler: &mut Sampler,
+    ) -> bool {
+        let lights = self.lights;
+        let nee = self.light_sampling && !lights.is_empty();
+        let ray = path.ray;
+        let t_end = surface.map_or(f32::INFINITY, |h| h.t);
+        let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
+        let in_medium = scattered.is_some();
+        let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
+            path.radiance += path.throughput * background(&self.scene.settings.background, ray.dir);
+            return false;
+        };
+        sampler.begin(Dim::Bsdf);
+        let bsdf = material::bsdf(self.scene, &hit, self.world.origin());
+        let wo = -ray.dir;
+        let sample = bsdf.sample_from(wo, sampler);
+        let emitted = bsdf.emitted();
+        if emitted != Vec3::ZERO {
+            let weight = path.previous.emission_weight(lights, nee, &hit);
+            path.radiance += path.throughput * emitted * weight;
+        }
+        if nee && bsdf.samples_lights() {
+            path.rays += self.direct(
+                lights,
+                &hit,
+                bsdf.facing(),
+                ray.time,
+                sampler,
+                media,
+                |wi| bsdf.eval_pdf(wo, wi),
+                path.throughput,
+                &mut path.radiance,
+            );
+        }
+        let Some(BsdfSample {
+            wi: dir,
+            weight: attenuation,
+            pdf,
+            specular,
+        }) = sample
+        else {
+            return false;
+        };
+        path.previous = if specular {
+            Previous::Specular
+        } else {
+            Previous::Scattered {
+                point: hit.point,
+                normal: bsdf.facing(),
+                pdf,
+            }
+        };
+        path.throughput *= attenuation;
+        if depth >= ROULETTE_AFTER {
+            let survive = survival(path.throughput, in_medium);
+            if survive < 1.0 {
+                sampler.begin(Dim::Roulette);
+                if sampler.next_1d() >= survive {
+                    return false;
+                }
+                path.throughput /= survive;
+            }
+        }
+        path.ray = Ray::new(hit.spawn_origin(dir), dir, ray.time);
+        true
     }
 
     /// Next-event estimation at `hit` (whose normal for choosing a light is

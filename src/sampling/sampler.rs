@@ -199,14 +199,22 @@ impl Sampler {
     /// Where the current sample's draws stand, to come back to with
     /// [`Sampler::resume`] after other samples drew (a pixel's camera rays
     /// are drawn together, then each sample's path).
+    #[inline]
     pub fn position(&self) -> Position {
         self.at.clone()
     }
 
+    /// [`Sampler::position`] written into `at`.
+    #[inline]
+    pub fn save(&self, at: &mut Position) {
+        at.clone_from(&self.at);
+    }
+
     /// Returns to a sample's draws where [`Sampler::position`] left them:
     /// the draws that follow are those that would have followed then.
-    pub fn resume(&mut self, at: Position) {
-        self.at = at;
+    #[inline]
+    pub fn resume(&mut self, at: &Position) {
+        self.at.clone_from(at);
     }
 
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.

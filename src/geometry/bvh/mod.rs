@@ -270,13 +270,25 @@ impl Bvh {
     fn walk<const AVX: bool>(
         &self,
         ray: &Ray,
+        t_max: f32,
+        visit: impl FnMut(usize, usize, f32) -> Option<f32>,
+    ) {
+        self.walk_from::<AVX>(0, &BoxRay::new(ray), t_max, visit);
+    }
+
+    /// [`Bvh::walk`] of the subtree under node `start` (a packet's walk
+    /// goes on so for a ray left alone in it).
+    #[inline(always)]
+    fn walk_from<const AVX: bool>(
+        &self,
+        start: u32,
+        box_ray: &BoxRay,
         mut t_max: f32,
         mut visit: impl FnMut(usize, usize, f32) -> Option<f32>,
     ) {
-        let box_ray = BoxRay::new(ray);
         // Not zero-filled: the stack is 1 KiB and most rays need a few entries.
         let mut stack = ArrayVec::<u64, STACK>::new();
-        let mut current = Some(0u32);
+        let mut current = Some(start);
         while let Some(index) = current.take().or_else(|| {
             while let Some(entry) = stack.pop() {
                 let (index, near) = unpack(entry);
@@ -287,7 +299,7 @@ impl Bvh {
             None
         }) {
             let node = &self.nodes[index as usize];
-            let (dist, mask) = node_hit::<AVX>(node, &box_ray, t_max);
+            let (dist, mask) = node_hit::<AVX>(node, box_ray, t_max);
             if mask & mask.wrapping_sub(1) == 0 {
                 if mask == 0 {
                     continue;

@@ -105,11 +105,29 @@ impl Bvh {
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
         let mut current = Some((0u32, live));
         while let Some((index, mask)) = current.take().or_else(|| stack.pop()) {
+            if mask & (mask - 1) == 0 {
+                // One ray left in this subtree: its own walk, without the
+                // packet's bookkeeping (the rays a packet's walk holds
+                // after their first bounce part ways at once).
+                let r = mask.trailing_zeros() as usize;
+                let t_max_r = t_max[r];
+                self.walk_from::<AVX>(index, &box_rays[r], t_max_r, |first, count, t: f32| {
+                    visit(first, count, mask, t_max);
+                    (t_max[r] < t).then_some(t_max[r])
+                });
+                continue;
+            }
             let node = &self.nodes[index as usize];
             let mut dist = [[f32::INFINITY; WIDTH]; PACKET];
+            // Per child, the nearest entry of any ray (a select the
+            // compiler makes one vector minimum: no distance is NaN).
+            let mut near = [f32::INFINITY; WIDTH];
             let mut entered = 0u64;
             for r in bits(mask) {
                 let (d, m) = node_hit::<AVX>(node, &box_rays[r], t_max[r]);
+                for (n, &e) in near.iter_mut().zip(&d) {
+                    *n = if e < *n { e } else { *n };
+                }
                 dist[r] = d;
                 entered |= u64::from(m) << (8 * r);
             }
@@ -118,16 +136,10 @@ impl Bvh {
             }
             // Byte `c`: the rays that enter child `c`.
             let by_child = transpose8(entered).to_le_bytes();
-            let mut near = [f32::INFINITY; WIDTH];
-            let mut children = 0u32;
-            for (c, &rays_in) in by_child.iter().enumerate() {
-                if rays_in != 0 {
-                    children |= 1 << c;
-                    near[c] = bits(u32::from(rays_in))
-                        .map(|r| dist[r][c])
-                        .fold(f32::INFINITY, f32::min);
-                }
-            }
+            let children = by_child
+                .iter()
+                .enumerate()
+                .fold(0u32, |m, (c, &rays_in)| m | u32::from(rays_in != 0) << c);
             let (order, n) = if children & (children - 1) == 0 {
                 let c = children.trailing_zeros() as usize;
                 let mut one = [0u64; WIDTH];
