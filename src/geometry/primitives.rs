@@ -74,8 +74,11 @@ impl Primitive {
         }
     }
 
-    /// The hit at a crossing this primitive gave for `ray`.
-    #[inline]
+    /// The hit at a crossing this primitive gave for `ray`. Always inlined:
+    /// with two callers (the one-ray and the packet walks' hits) the
+    /// compiler kept it out of line, and the random spheres took 0.6 % more
+    /// instructions (callgrind, 100×56 at 16 spp on one thread).
+    #[inline(always)]
     pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
         match self {
             Primitive::Sphere(s) => s.surface(ray, c),

@@ -57,7 +57,10 @@ impl CameraRays {
     }
 
     /// A ray through pixel `(x, y)` (row 0 at the top), jittered within it.
-    #[inline]
+    /// Always inlined: with two callers (a sample alone and a block of
+    /// samples) the compiler kept it out of line, and the book-2 scene took
+    /// 0.2 % more instructions (callgrind, 64² at 16 spp on one thread).
+    #[inline(always)]
     pub fn ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
         sampler.begin(Dim::Camera);
         let film = sampler.next_2d();

@@ -195,6 +195,7 @@ pub fn render_film(
             target,
             clamp: options.clamp,
             noise: options.noise,
+            packets: world.traces_packets() && options.noise.is_none(),
         };
         let order = costliest_first(&cost);
         let next = AtomicUsize::new(0);
@@ -312,6 +313,10 @@ struct Job<'a> {
     /// Adaptive target: a pixel stops at a round end once the relative
     /// standard error of its mean luminance is below it.
     noise: Option<f32>,
+    /// Whether a pixel's samples are traced a block at a time
+    /// ([`Tracer::samples`]): in a world that traces packets, without
+    /// adaptive sampling (which stops per sample).
+    packets: bool,
 }
 
 struct TileResult {
@@ -398,9 +403,9 @@ impl Job<'_> {
                             s += count as u32;
                         }
                     }
-                    None if self.noise.is_none() => {
-                        // A block of the sampler at a time, so that the
-                        // block's camera rays are traced together.
+                    None if self.packets => {
+                        // A block of the sampler at a time: its paths go
+                        // side by side, each bounce's rays one packet.
                         let mut s = film.taken[i];
                         while s < self.target {
                             let index = self.first + s;

@@ -218,6 +218,7 @@ impl Sampler {
     }
 
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
+    #[inline]
     pub fn start(&mut self, x: u32, y: u32, index: u32) {
         if self.kind == SamplerKind::Independent {
             self.at.rng = Rng::for_sample(self.seed, x, y, index);
