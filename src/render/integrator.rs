@@ -244,7 +244,7 @@ impl<'a> Tracer<'a> {
         let n = indices.len();
         debug_assert!(n <= PACKET);
         let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
-        let mut at: [Position; PACKET] = std::array::from_fn(|_| sampler.position());
+        let mut at = [const { Position::START }; PACKET];
         for (k, index) in indices.enumerate() {
             sampler.start(x, y, index);
             paths[k] = Path::new(camera.ray(x, y, sampler));

@@ -142,6 +142,18 @@ pub struct Position {
     ahead: Held,
 }
 
+impl Position {
+    /// The place of no sample yet: before [`Sampler::start`].
+    pub const START: Position = Position {
+        rng: Rng::UNUSED,
+        pixel: 0,
+        index: 0,
+        bounce: 0,
+        slot: 0,
+        ahead: Held::NONE,
+    };
+}
+
 /// A 2-D draw made ahead of its use, and its slot (`u64::MAX`, no slot,
 /// when it holds none).
 #[derive(Clone, Copy, Debug)]
@@ -184,14 +196,7 @@ impl Sampler {
         Sampler {
             kind,
             seed,
-            at: Position {
-                rng: Rng::UNUSED,
-                pixel: 0,
-                index: 0,
-                bounce: 0,
-                slot: 0,
-                ahead: Held::NONE,
-            },
+            at: Position::START,
             blocks: vec![Block::NONE; slots],
         }
     }
