@@ -1,8 +1,10 @@
 //! Rendering an image: samples are added to a [`Film`] in rounds (to 1, 8,
 //! 16, 32, 48, … samples per pixel), each round cut into tiles that the
 //! threads of a rayon pool take one at a time, the tiles that cost most in
-//! the last round first. Each pixel's samples are traced in index order from
-//! streams that depend only on (seed, pixel, sample), so the result is
+//! the last round first. Each pixel's samples are traced in index order (or
+//! a sampler block side by side, in a world that traces packets) and summed
+//! in index order, from streams that depend only on (seed, pixel, sample),
+//! so the result is
 //! bit-identical for any thread count, any crop, any number of rounds and
 //! any interruption resumed from a checkpoint. Counters are per tile, merged
 //! at the end of each round.
