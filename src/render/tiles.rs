@@ -4,9 +4,8 @@
 //! the last round first. Each pixel's samples are traced in index order (or
 //! a sampler block side by side, in a world that traces packets) and summed
 //! in index order, from streams that depend only on (seed, pixel, sample),
-//! so the result is
-//! bit-identical for any thread count, any crop, any number of rounds and
-//! any interruption resumed from a checkpoint. Counters are per tile, merged
+//! so the result is bit-identical for any thread count, any crop, any
+//! number of rounds and any interruption resumed from a checkpoint. Counters are per tile, merged
 //! at the end of each round.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
