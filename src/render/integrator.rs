@@ -202,8 +202,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// [`Tracer::sample`] in a world that traces packets: a packet of one.
-    /// Kept out of line, so that the one-ray path other worlds take stays
-    /// as small as it was where it is inlined.
+    /// Kept out of line: it holds a block's whole loop, which the one-ray
+    /// path of other worlds, inlined where it is called, has no use for.
     #[inline(never)]
     fn packet_of_one(
         &self,
@@ -242,7 +242,7 @@ impl<'a> Tracer<'a> {
             return;
         }
         let n = indices.len();
-        debug_assert!(n <= PACKET);
+        assert!(n <= PACKET, "a block holds at most {PACKET} samples");
         let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
         let mut at = [const { Position::START }; PACKET];
         for (k, index) in indices.enumerate() {

@@ -123,9 +123,10 @@ impl Block {
     };
 }
 
-/// A sample's place in its draws, which [`Sampler::position`] gives and
-/// [`Sampler::resume`] returns to; the kept blocks are not part of it, as
-/// they hold the same numbers for every sample.
+/// A sample's place in its draws, which [`Sampler::save`] keeps and
+/// [`Sampler::resume`] returns to. The kept blocks are not part of it: a
+/// block holds the draws of one pixel's eight samples, checked against the
+/// sample's pixel and block before it is read.
 #[derive(Clone, Debug)]
 pub struct Position {
     /// The independent stream: every draw of the independent sampler
@@ -201,21 +202,15 @@ impl Sampler {
         }
     }
 
-    /// Where the current sample's draws stand, to come back to with
-    /// [`Sampler::resume`] after other samples drew (a pixel's camera rays
-    /// are drawn together, then each sample's path).
-    #[inline]
-    pub fn position(&self) -> Position {
-        self.at.clone()
-    }
-
-    /// [`Sampler::position`] written into `at`.
+    /// Writes into `at` where the current sample's draws stand, to come
+    /// back to with [`Sampler::resume`] after other samples drew (the paths
+    /// of a pixel's block go side by side, each drawing its own).
     #[inline]
     pub fn save(&self, at: &mut Position) {
         at.clone_from(&self.at);
     }
 
-    /// Returns to a sample's draws where [`Sampler::position`] left them:
+    /// Returns to a sample's draws where [`Sampler::save`] left them:
     /// the draws that follow are those that would have followed then.
     #[inline]
     pub fn resume(&mut self, at: &Position) {

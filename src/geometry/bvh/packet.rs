@@ -4,7 +4,9 @@
 //! ray's eight-box test after another: the tests do not depend on each
 //! other, so they run side by side, where one ray's walk waits on each of
 //! its tests in turn. The decisions of the walk (which children, in which
-//! order, what to push) are made once for the packet.
+//! order, what to push) are made once for the packet. A ray left alone in a
+//! subtree walks it as one ray does ([`Bvh::walk_from`]): rays after a
+//! diffuse bounce part ways at once.
 //!
 //! Which leaves a ray is shown depends on the other rays of its packet and
 //! on the order the packet visits them, so a caller that wants a ray's
