@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 
 use rtlang::geometry::World;
 use rtlang::render::scenes::{book2_final, cornell_box};
-use rtlang::render::{render, render_film, Crop, Film, Hooks, RenderOptions};
+use rtlang::render::{probe, render, render_film, Crop, Film, Hooks, RenderOptions};
 use rtlang::sampling::SamplerKind;
 
 #[test]
@@ -71,8 +71,8 @@ fn a_crop_outside_the_image_is_refused() {
 /// A pixel's paths go side by side, a block of the sampler at a time, and
 /// each bounce's rays walk the BVH together (a packet): a render that
 /// reaches 11 spp in other groupings (3 then 11, so packets of 1, 2, 5 and
-/// 3 samples, against 1, 7 and 3), or on another number of threads, gives
-/// the same bits.
+/// 3 samples, against 1, 7 and 3), on another number of threads, or in the
+/// preview's probe (a sample at a time) gives the same bits.
 #[test]
 fn paths_traced_together_give_each_samples_own_bits() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spheres.rt");
@@ -91,6 +91,15 @@ fn paths_traced_together_give_each_samples_own_bits() {
     let region = options.region().expect("valid");
     let direct = render(&scene, &world, &options, &|_| {}).expect("renders");
     assert!(direct.pixels.iter().any(|p| p.max_element() > 0.0));
+    // The preview's probe re-traces a pixel's samples one at a time.
+    for (x, y) in [(3, 20), (20, 12), (37, 5)] {
+        let probe = probe::estimate(&scene, &world, &options, x, y, 11);
+        assert_eq!(
+            probe.mean,
+            direct.pixels[(y * 40 + x) as usize],
+            "({x}, {y})"
+        );
+    }
     options.threads = Some(3);
     let threads = render(&scene, &world, &options, &|_| {}).expect("renders");
     assert_eq!(direct.pixels, threads.pixels);
