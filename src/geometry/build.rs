@@ -107,44 +107,25 @@ impl World {
     /// room of rects and turned boxes): its crossings can be found for many
     /// rays before any of their hits is built.
     pub fn flat_set(&self) -> Option<&PrimitiveSet> {
-        match &self.root {
-            Root::Bare(g) => match g.as_ref() {
-                Geometry::Primitives(set) if set.is_flat() => Some(set),
-                _ => None,
-            },
-            Root::Placed(_) => None,
-        }
+        self.bare_set().filter(|set| set.is_flat())
     }
 
     /// The world's one set of primitives when that is all it holds and it is
-    /// not flat (no medium, no instance): its rays can walk it in packets.
-    fn packet_set(&self) -> Option<&PrimitiveSet> {
+    /// not flat (no medium, no instance): a pixel's rays walk it in packets
+    /// ([`PrimitiveSet::first_hits`]). Flat sets have passes of their own.
+    pub fn packet_set(&self) -> Option<&PrimitiveSet> {
+        self.bare_set().filter(|set| !set.is_flat())
+    }
+
+    /// The world's one set of primitives, when that is all it holds.
+    fn bare_set(&self) -> Option<&PrimitiveSet> {
         match &self.root {
             Root::Bare(g) => match g.as_ref() {
-                Geometry::Primitives(set) if !set.is_flat() => Some(set),
+                Geometry::Primitives(set) => Some(set),
                 _ => None,
             },
             Root::Placed(_) => None,
         }
-    }
-
-    /// Whether [`World::first_hits`] traces packets in this world.
-    pub fn traces_packets(&self) -> bool {
-        self.packet_set().is_some()
-    }
-
-    /// The nearest hits of up to [`super::bvh::PACKET`] rays from `t_min`
-    /// on that cross much the same boxes (a pixel's camera rays), written
-    /// into `out`, in a world that [`World::traces_packets`]: see
-    /// [`PrimitiveSet::first_hits`], whose hit of a ray does not depend on
-    /// the rays beside it. Elsewhere it writes nothing and returns `false`:
-    /// the caller traces the rays one by one.
-    pub fn first_hits(&self, rays: &[Ray], t_min: f32, out: &mut [Option<Hit>]) -> bool {
-        let Some(set) = self.packet_set() else {
-            return false;
-        };
-        set.first_hits(rays, t_min, out);
-        true
     }
 
     /// The nearest surface hit with `t` in `(t_min, t_max)`, ignoring media.

@@ -12,6 +12,7 @@
 use glam::Vec3;
 use wide::{f32x4, CmpEq, CmpGt, CmpLt};
 
+use super::bvh::bits;
 use super::shapes::sphere::{Roots, MISS_MARGIN};
 use super::shapes::triangle::ShearedRay;
 use super::shapes::Sphere;
@@ -84,15 +85,8 @@ impl<P> Packs<P> {
 
 /// The slots of the lanes set in `mask`, lowest first.
 #[inline]
-pub fn slots(first: usize, mut mask: u32) -> impl Iterator<Item = usize> {
-    std::iter::from_fn(move || {
-        if mask == 0 {
-            return None;
-        }
-        let lane = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        Some(first + lane)
-    })
+pub fn slots(first: usize, mask: u32) -> impl Iterator<Item = usize> {
+    bits(mask).map(move |lane| first + lane)
 }
 
 /// Up to four spheres, by coordinate.

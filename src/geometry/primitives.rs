@@ -4,7 +4,7 @@
 //! the surface data of the nearest one; up to eight rays may walk it
 //! together ([`PrimitiveSet::first_hits`]).
 
-use super::bvh::{Leaves, PACKET};
+use super::bvh::{bits, Leaves, PACKET};
 use super::emitter::LightId;
 use super::flat::{FlatFaces, Hits8, Nearest8, RAYS};
 use super::hit::facing;
@@ -222,19 +222,13 @@ impl PrimitiveSet {
     /// The nearest hits in `(t_min, ∞)` of up to [`PACKET`] rays that cross
     /// much the same boxes (a pixel's camera rays), facing their rays,
     /// written into `out` (one per ray). They are found in one walk of the
-    /// packet ([`Bvh::traverse_packet`]), a flat set's a ray at a time. A
+    /// packet ([`Bvh::traverse_packet`]; the tree of a flat set serves too). A
     /// ray's hit does not depend on the rays beside it nor on the order the
     /// walk shows it the leaves: it is the crossing with the least `t`,
     /// ties going to the lowest slot (the one-ray walk keeps the first it
     /// finds, so the two part only where two surfaces meet a ray at one
     /// `t`). Every crossing is found out to infinity and compared after.
     pub fn first_hits(&self, rays: &[Ray], t_min: f32, out: &mut [Option<Hit>]) {
-        if self.flat.is_some() {
-            for (ray, hit) in rays.iter().zip(out.iter_mut()) {
-                *hit = self.intersect_facing(ray, t_min, f32::INFINITY);
-            }
-            return;
-        }
         let mut t_max = [f32::INFINITY; PACKET];
         let mut best: [Option<(Crossing, usize)>; PACKET] = [None; PACKET];
         let mut keep = |k: usize, slot: usize, c: Crossing, t_max: &mut [f32; PACKET]| {
@@ -252,7 +246,7 @@ impl PrimitiveSet {
             #[inline(always)]
             |first, count, mask, t_max| {
                 if let Some(leaf) = self.spheres.get(first) {
-                    for k in slots(0, mask) {
+                    for k in bits(mask) {
                         let ray = &rays[k];
                         let lanes = leaf.candidates(ray);
                         if lanes == 0 {
@@ -268,7 +262,7 @@ impl PrimitiveSet {
                         }
                     }
                 } else {
-                    for k in slots(0, mask) {
+                    for k in bits(mask) {
                         for slot in first..first + count {
                             let c = self.prims[slot].crossing(&rays[k], t_min, f32::INFINITY);
                             if let Some(c) = c {

@@ -12,9 +12,9 @@
 //! along each (exponential in the density); shadow rays through media carry
 //! the exact transmittance of a homogeneous medium.
 //!
-//! In a world of one set of primitives, the paths of a pixel's block of
-//! samples go side by side, bounce by bounce, so that each bounce's rays
-//! walk the BVH as one packet ([`Tracer::samples`]).
+//! In a world of one set of primitives ([`World::packet_set`]), the paths
+//! of a pixel's block of samples go side by side, bounce by bounce, so that
+//! each bounce's rays walk the BVH as one packet ([`Tracer::samples`]).
 
 use std::ops::Range;
 
@@ -28,6 +28,7 @@ use super::options::RenderOptions;
 use crate::geometry::bvh::PACKET;
 use crate::geometry::emitter::LightId;
 use crate::geometry::medium::{MediumSegment, MediumSegments};
+use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
 use crate::sampling::sampler::Position;
@@ -113,6 +114,9 @@ pub struct Tracer<'a> {
     pub max_depth: u32,
     /// Whether to sample lights at diffuse and medium scatterings.
     pub light_sampling: bool,
+    /// The world's set of primitives when its rays walk it in packets
+    /// ([`World::packet_set`], asked once here, not per sample).
+    pub packets: Option<&'a PrimitiveSet>,
 }
 
 /// How the last scattering chose the current ray's direction.
@@ -177,6 +181,7 @@ impl<'a> Tracer<'a> {
             lights,
             max_depth: options.max_depth,
             light_sampling: options.light_sampling,
+            packets: world.packet_set(),
         }
     }
 
@@ -193,8 +198,8 @@ impl<'a> Tracer<'a> {
         (x, y): (u32, u32),
         index: u32,
     ) -> (Vec3, u32) {
-        if self.world.traces_packets() {
-            return self.packet_of_one(camera, sampler, (x, y), index);
+        if let Some(set) = self.packets {
+            return self.packet_of_one(set, camera, sampler, (x, y), index);
         }
         sampler.start(x, y, index);
         let ray = camera.ray(x, y, sampler);
@@ -207,6 +212,7 @@ impl<'a> Tracer<'a> {
     #[inline(never)]
     fn packet_of_one(
         &self,
+        set: &PrimitiveSet,
         camera: &CameraRays,
         sampler: &mut Sampler,
         pixel: (u32, u32),
@@ -214,33 +220,27 @@ impl<'a> Tracer<'a> {
     ) -> (Vec3, u32) {
         let mut out = (Vec3::ZERO, 0);
         let one = index..index + 1;
-        self.samples(camera, sampler, pixel, one, |l, rays| out = (l, rays));
+        self.samples(set, camera, sampler, pixel, one, |l, rays| out = (l, rays));
         out
     }
 
     /// The samples `indices` of pixel `(x, y)` (at most [`PACKET`], in one
-    /// block of the sampler), each given to `each` as its radiance and rays
-    /// traced, in index order. Where the world can ([`World::first_hits`]),
-    /// their paths go side by side, bounce by bounce, and each bounce's rays
-    /// are traced together; a ray's hit is the one it has traced alone, so
-    /// any grouping of a pixel's samples gives the same numbers. Elsewhere
-    /// the paths are traced one after the other.
+    /// block of the sampler) in a world whose rays walk `set`, its
+    /// [`Tracer::packets`], in packets: each sample's radiance and rays
+    /// traced go to `each`, in index order. The paths go side by side,
+    /// bounce by bounce, and each bounce's rays are one packet
+    /// ([`PrimitiveSet::first_hits`]); a ray's hit is the one it has traced
+    /// alone, so any grouping of a pixel's samples gives the same numbers.
     #[inline]
     pub fn samples(
         &self,
+        set: &PrimitiveSet,
         camera: &CameraRays,
         sampler: &mut Sampler,
         (x, y): (u32, u32),
         indices: Range<u32>,
         mut each: impl FnMut(Vec3, u32),
     ) {
-        if !self.world.traces_packets() {
-            for index in indices {
-                let (l, rays) = self.sample(camera, sampler, (x, y), index);
-                each(l, rays);
-            }
-            return;
-        }
         let n = indices.len();
         assert!(n <= PACKET, "a block holds at most {PACKET} samples");
         let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
@@ -265,7 +265,7 @@ impl<'a> Tracer<'a> {
                 m += 1;
             }
             let mut hits = [None; PACKET];
-            self.world.first_hits(&rays[..m], 0.0, &mut hits[..m]);
+            set.first_hits(&rays[..m], 0.0, &mut hits[..m]);
             for (&k, &hit) in lane[..m].iter().zip(&hits) {
                 sampler.resume(&at[k]);
                 if !self.lane_bounce(&mut paths[k], depth, hit, &mut media, sampler) {

@@ -2,11 +2,11 @@
 //! 16, 32, 48, … samples per pixel), each round cut into tiles that the
 //! threads of a rayon pool take one at a time, the tiles that cost most in
 //! the last round first. Each pixel's samples are traced in index order (or
-//! a sampler block side by side, in a world that traces packets) and summed
-//! in index order, from streams that depend only on (seed, pixel, sample),
-//! so the result is bit-identical for any thread count, any crop, any
-//! number of rounds and any interruption resumed from a checkpoint. Counters are per tile, merged
-//! at the end of each round.
+//! a sampler block side by side, in a world whose rays walk in packets) and
+//! summed in index order, from streams that depend only on (seed, pixel,
+//! sample), so the result is bit-identical for any thread count, any crop,
+//! any number of rounds and any interruption resumed from a checkpoint.
+//! Counters are per tile, merged at the end of each round.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
@@ -20,6 +20,7 @@ use super::integrator::Tracer;
 use super::lanes::Lanes;
 use super::lights::LightList;
 use super::options::{Crop, OptionsError, RenderOptions};
+use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::World;
 use crate::sampling::sampler::BLOCK;
 use crate::sampling::{Sampler, SamplerKind};
@@ -196,7 +197,7 @@ pub fn render_film(
             target,
             clamp: options.clamp,
             noise: options.noise,
-            packets: world.traces_packets() && options.noise.is_none(),
+            packets: tracer.packets.filter(|_| options.noise.is_none()),
         };
         let order = costliest_first(&cost);
         let next = AtomicUsize::new(0);
@@ -314,10 +315,10 @@ struct Job<'a> {
     /// Adaptive target: a pixel stops at a round end once the relative
     /// standard error of its mean luminance is below it.
     noise: Option<f32>,
-    /// Whether a pixel's samples are traced a block at a time
-    /// ([`Tracer::samples`]): in a world that traces packets, without
-    /// adaptive sampling (which stops per sample).
-    packets: bool,
+    /// The set a pixel's samples walk a block at a time, in packets
+    /// ([`Tracer::samples`]): the tracer's, unless adaptive sampling (which
+    /// stops per sample) is on.
+    packets: Option<&'a PrimitiveSet>,
 }
 
 struct TileResult {
@@ -388,8 +389,8 @@ impl Job<'_> {
                     estimate: PixelEstimate::default(),
                 };
                 let done = film.taken[i].max(self.target);
-                match self.lanes {
-                    Some(lanes) => {
+                match (self.lanes, self.packets) {
+                    (Some(lanes), _) => {
                         let root = sampler.pixel_seeds(x, y);
                         let mut s = film.taken[i];
                         while s < self.target {
@@ -404,7 +405,7 @@ impl Job<'_> {
                             s += count as u32;
                         }
                     }
-                    None if self.packets => {
+                    (None, Some(set)) => {
                         // A block of the sampler at a time: its paths go
                         // side by side, each bounce's rays one packet.
                         let mut s = film.taken[i];
@@ -412,6 +413,7 @@ impl Job<'_> {
                             let index = self.first + s;
                             let count = (BLOCK - index % BLOCK).min(self.target - s);
                             self.tracer.samples(
+                                set,
                                 self.camera,
                                 &mut sampler,
                                 (x, y),
@@ -421,7 +423,7 @@ impl Job<'_> {
                             s += count;
                         }
                     }
-                    None => {
+                    (None, None) => {
                         for s in film.taken[i]..self.target {
                             if let Some(goal) = self.noise {
                                 if is_round_end(s) && px.estimate.relative_error() < f64::from(goal)

@@ -26,7 +26,7 @@ use super::{Aabb, Ray};
 #[cfg(target_arch = "x86_64")]
 pub(crate) use node::avx;
 use node::{node_hit, BoxRay, BvhNode, WIDTH};
-pub use packet::PACKET;
+pub use packet::{bits, PACKET};
 use sah::BinaryNode;
 
 /// Depth of the traversal stack: a node pushes at most 7 more entries than

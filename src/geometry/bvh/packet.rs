@@ -23,9 +23,9 @@ use crate::geometry::Ray;
 /// Rays in a packet.
 pub const PACKET: usize = 8;
 
-/// The bits set in `mask`, lowest first.
+/// The bits set in `mask`, lowest first (a packet's rays, a leaf's lanes).
 #[inline(always)]
-fn bits(mut mask: u32) -> impl Iterator<Item = usize> {
+pub fn bits(mut mask: u32) -> impl Iterator<Item = usize> {
     std::iter::from_fn(move || {
         if mask == 0 {
             return None;
@@ -124,7 +124,8 @@ impl Bvh {
             // Per child, the nearest entry of any ray (a select the
             // compiler makes one vector minimum: no distance is NaN).
             let mut near = [f32::INFINITY; WIDTH];
-            let mut entered = 0u64;
+            // Byte `r` of `entered`: the children ray `r` enters.
+            let (mut entered, mut children) = (0u64, 0u32);
             for r in bits(mask) {
                 let (d, m) = node_hit::<AVX>(node, &box_rays[r], t_max[r]);
                 for (n, &e) in near.iter_mut().zip(&d) {
@@ -132,16 +133,13 @@ impl Bvh {
                 }
                 dist[r] = d;
                 entered |= u64::from(m) << (8 * r);
+                children |= m;
             }
-            if entered == 0 {
+            if children == 0 {
                 continue;
             }
             // Byte `c`: the rays that enter child `c`.
             let by_child = transpose8(entered).to_le_bytes();
-            let children = by_child
-                .iter()
-                .enumerate()
-                .fold(0u32, |m, (c, &rays_in)| m | u32::from(rays_in != 0) << c);
             let (order, n) = if children & (children - 1) == 0 {
                 let c = children.trailing_zeros() as usize;
                 let mut one = [0u64; WIDTH];
