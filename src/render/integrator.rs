@@ -31,7 +31,6 @@ use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{spawn_to, SHADOW_END};
 use crate::geometry::{Hit, Ray, World};
-use crate::sampling::sampler::Position;
 use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, MaterialId, Scene};
 
@@ -244,11 +243,10 @@ impl<'a> Tracer<'a> {
         let n = indices.len();
         assert!(n <= PACKET, "a block holds at most {PACKET} samples");
         let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
-        let mut at = [const { Position::START }; PACKET];
         for (k, index) in indices.enumerate() {
+            sampler.lane(k);
             sampler.start(x, y, index);
             paths[k] = Path::new(camera.ray(x, y, sampler));
-            sampler.save(&mut at[k]);
         }
         let mut media = MediumSegments::default();
         let mut live = (1u32 << n) - 1;
@@ -258,20 +256,18 @@ impl<'a> Tracer<'a> {
             let mut lane = [0; PACKET];
             let mut m = 0;
             for k in (0..n).filter(|k| live >> k & 1 != 0) {
-                sampler.resume(&at[k]);
+                sampler.lane(k);
                 paths[k].start_bounce(depth, sampler);
-                sampler.save(&mut at[k]);
                 (rays[m], lane[m]) = (paths[k].ray, k);
                 m += 1;
             }
             let mut hits = [None; PACKET];
             set.first_hits(&rays[..m], 0.0, &mut hits[..m]);
             for (&k, &hit) in lane[..m].iter().zip(&hits) {
-                sampler.resume(&at[k]);
+                sampler.lane(k);
                 if !self.lane_bounce(&mut paths[k], depth, hit, &mut media, sampler) {
                     live &= !(1 << k);
                 }
-                sampler.save(&mut at[k]);
             }
             depth += 1;
         }

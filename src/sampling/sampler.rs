@@ -87,8 +87,11 @@ const CACHED_SLOTS: usize = (CAMERA_SLOTS + 10 * BOUNCE_SLOTS) as usize;
 pub struct Sampler {
     kind: SamplerKind,
     seed: u64,
-    /// Where the current sample's draws stand.
-    at: Position,
+    /// Where each lane's sample's draws stand (the paths of a pixel's
+    /// block go side by side, each drawing its own: [`Sampler::lane`]).
+    lanes: [Position; BLOCK as usize],
+    /// The lane whose sample draws now.
+    lane: usize,
     /// The draws kept per slot (none for a one-off sampler or the
     /// independent one).
     blocks: Vec<Block>,
@@ -123,12 +126,12 @@ impl Block {
     };
 }
 
-/// A sample's place in its draws, which [`Sampler::save`] keeps and
-/// [`Sampler::resume`] returns to. The kept blocks are not part of it: a
-/// block holds the draws of one pixel's eight samples, checked against the
-/// sample's pixel and block before it is read.
+/// A sample's place in its draws, one per lane ([`Sampler::lane`]). The
+/// kept blocks are not part of it: a block holds the draws of one pixel's
+/// eight samples, checked against the sample's pixel and block before it is
+/// read.
 #[derive(Clone, Debug)]
-pub struct Position {
+struct Position {
     /// The independent stream: every draw of the independent sampler
     /// (unseeded for the Sobol' sampler, which never draws from it).
     rng: Rng,
@@ -145,7 +148,7 @@ pub struct Position {
 
 impl Position {
     /// The place of no sample yet: before [`Sampler::start`].
-    pub const START: Position = Position {
+    const START: Position = Position {
         rng: Rng::UNUSED,
         pixel: 0,
         index: 0,
@@ -197,37 +200,46 @@ impl Sampler {
         Sampler {
             kind,
             seed,
-            at: Position::START,
+            lanes: [const { Position::START }; BLOCK as usize],
+            lane: 0,
             blocks: vec![Block::NONE; slots],
         }
     }
 
-    /// Writes into `at` where the current sample's draws stand, to come
-    /// back to with [`Sampler::resume`] after other samples drew (the paths
-    /// of a pixel's block go side by side, each drawing its own).
+    /// Makes lane `lane` (below [`BLOCK`]) the one that draws: its sample
+    /// goes on from where its own draws stood, whatever other lanes drew
+    /// since (the paths of a pixel's block go side by side, each drawing
+    /// its own). Switching copies nothing: a copy of the place just written
+    /// waited on the store of each field (a forwarding stall).
     #[inline]
-    pub fn save(&self, at: &mut Position) {
-        at.clone_from(&self.at);
+    pub fn lane(&mut self, lane: usize) {
+        debug_assert!(lane < BLOCK as usize);
+        self.lane = lane % BLOCK as usize;
     }
 
-    /// Returns to a sample's draws where [`Sampler::save`] left them:
-    /// the draws that follow are those that would have followed then.
-    #[inline]
-    pub fn resume(&mut self, at: &Position) {
-        self.at.clone_from(at);
+    /// The current lane's place.
+    #[inline(always)]
+    fn at(&self) -> &Position {
+        &self.lanes[self.lane % BLOCK as usize]
+    }
+
+    /// The current lane's place, to move on.
+    #[inline(always)]
+    fn at_mut(&mut self) -> &mut Position {
+        &mut self.lanes[self.lane % BLOCK as usize]
     }
 
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
     #[inline]
     pub fn start(&mut self, x: u32, y: u32, index: u32) {
         if self.kind == SamplerKind::Independent {
-            self.at.rng = Rng::for_sample(self.seed, x, y, index);
+            self.at_mut().rng = Rng::for_sample(self.seed, x, y, index);
         }
-        self.at.pixel = self.pixel_seeds(x, y).0;
-        self.at.index = index;
-        self.at.bounce = 0;
-        self.at.slot = 0;
-        self.at.ahead = Held::NONE;
+        self.at_mut().pixel = self.pixel_seeds(x, y).0;
+        self.at_mut().index = index;
+        self.at_mut().bounce = 0;
+        self.at_mut().slot = 0;
+        self.at_mut().ahead = Held::NONE;
     }
 
     /// The Sobol' 2-D draw of `slot` from its kept block (computing the
@@ -235,12 +247,13 @@ impl Sampler {
     /// draws are not kept.
     #[inline]
     fn kept(&mut self, slot: u32) -> Option<Vec2> {
-        let (pixel, block) = (self.at.pixel, self.at.index / BLOCK);
+        let (pixel, index) = (self.at().pixel, self.at().index);
+        let block = index / BLOCK;
         let kept = self.blocks.get_mut(slot as usize)?;
         if kept.pixel != pixel || kept.block != block {
             kept.fill(pixel, block, slot);
         }
-        let lane = (self.at.index % BLOCK) as usize;
+        let lane = (index % BLOCK) as usize;
         Some(Vec2::new(kept.draws[0][lane], kept.draws[1][lane]))
     }
 
@@ -255,19 +268,19 @@ impl Sampler {
     /// Sets the bounce that [`Sampler::begin`] allocates slots in.
     #[inline]
     pub fn start_bounce(&mut self, depth: u32) {
-        self.at.bounce = depth;
+        self.at_mut().bounce = depth;
     }
 
     /// Moves to the first slot of `dim` (in the current bounce).
     #[inline]
     pub fn begin(&mut self, dim: Dim) {
-        self.at.slot = self.slot_of(dim);
+        self.at_mut().slot = self.slot_of(dim);
     }
 
     /// The first slot of `dim` in the current bounce.
     #[inline]
     fn slot_of(&self, dim: Dim) -> u32 {
-        slot_in(self.at.bounce, dim)
+        slot_in(self.at().bounce, dim)
     }
 
     /// Makes now the 2-D draw of the first slot of `dim` in the current
@@ -287,7 +300,7 @@ impl Sampler {
         if (slot as usize) < self.blocks.len() {
             return;
         }
-        self.at.ahead = Held {
+        self.at_mut().ahead = Held {
             slot: u64::from(slot),
             value: self.sobol_2d(slot),
         };
@@ -296,14 +309,15 @@ impl Sampler {
     /// The held draw of `slot`, if [`Sampler::draw_ahead`] made it.
     #[inline]
     fn held(&self, slot: u32) -> Option<Vec2> {
-        (self.at.ahead.slot == u64::from(slot)).then_some(self.at.ahead.value)
+        let ahead = self.at().ahead;
+        (ahead.slot == u64::from(slot)).then_some(ahead.value)
     }
 
     /// The Sobol' 2-D draw of `slot`, computed alone.
     #[inline]
     fn sobol_2d(&self, slot: u32) -> Vec2 {
-        let seeds = slot_seeds(self.at.pixel, slot);
-        let (a, b) = sobol::point2(self.at.index, seeds);
+        let seeds = slot_seeds(self.at().pixel, slot);
+        let (a, b) = sobol::point2(self.at().index, seeds);
         Vec2::new(sobol::to_unit(a), sobol::to_unit(b))
     }
 
@@ -311,15 +325,15 @@ impl Sampler {
     #[inline(always)]
     pub fn next_1d(&mut self) -> f32 {
         match self.kind {
-            SamplerKind::Independent => self.at.rng.next_f32(),
+            SamplerKind::Independent => self.at_mut().rng.next_f32(),
             SamplerKind::Sobol => {
-                let slot = self.at.slot;
-                self.at.slot = slot.wrapping_add(1);
+                let slot = self.at().slot;
+                self.at_mut().slot = slot.wrapping_add(1);
                 if let Some(v) = self.held(slot).or_else(|| self.kept(slot)) {
                     return v.x;
                 }
-                let h = slot_hash(self.at.pixel, slot);
-                sobol::to_unit(sobol::point1(self.at.index, [h as u32, (h >> 32) as u32]))
+                let h = slot_hash(self.at().pixel, slot);
+                sobol::to_unit(sobol::point1(self.at().index, [h as u32, (h >> 32) as u32]))
             }
         }
     }
@@ -330,9 +344,12 @@ impl Sampler {
     pub fn skip_1d(&mut self) {
         match self.kind {
             SamplerKind::Independent => {
-                self.at.rng.next_u32();
+                self.at_mut().rng.next_u32();
             }
-            SamplerKind::Sobol => self.at.slot = self.at.slot.wrapping_add(1),
+            SamplerKind::Sobol => {
+                let at = self.at_mut();
+                at.slot = at.slot.wrapping_add(1);
+            }
         }
     }
 
@@ -340,7 +357,7 @@ impl Sampler {
     #[inline]
     pub fn skip_2d(&mut self) {
         if self.kind == SamplerKind::Independent {
-            self.at.rng.next_u32();
+            self.at_mut().rng.next_u32();
         }
         self.skip_1d();
     }
@@ -350,16 +367,16 @@ impl Sampler {
     pub fn next_2d(&mut self) -> Vec2 {
         match self.kind {
             SamplerKind::Independent => {
-                let x = self.at.rng.next_f32();
-                Vec2::new(x, self.at.rng.next_f32())
+                let x = self.at_mut().rng.next_f32();
+                Vec2::new(x, self.at_mut().rng.next_f32())
             }
             SamplerKind::Sobol => {
-                let slot = self.at.slot;
+                let slot = self.at().slot;
                 let v = match self.held(slot).or_else(|| self.kept(slot)) {
                     Some(v) => v,
                     None => self.sobol_2d(slot),
                 };
-                self.at.slot = slot.wrapping_add(1);
+                self.at_mut().slot = slot.wrapping_add(1);
                 v
             }
         }
@@ -572,13 +589,13 @@ mod tests {
             let mut slots = Vec::new();
             for dim in [Dim::Light, Dim::Bsdf, Dim::Roulette] {
                 s.begin(dim);
-                slots.push(s.at.slot);
+                slots.push(s.at().slot);
             }
             // Light takes 3 slots (choice, point), the BSDF 2 (direction, lobe).
             slots.extend([slots[0] + 1, slots[1] + 1]);
             slots.extend((0..16).map(|k| {
                 s.begin(Dim::Medium(k));
-                s.at.slot
+                s.at().slot
             }));
             for slot in slots {
                 assert!(seen.insert(slot), "bounce {bounce}: slot {slot} twice");
@@ -586,7 +603,7 @@ mod tests {
         }
         s.begin(Dim::Camera);
         for slot in 0..CAMERA_SLOTS {
-            assert!(seen.insert(s.at.slot + slot), "camera slot {slot} reused");
+            assert!(seen.insert(s.at().slot + slot), "camera slot {slot} reused");
         }
     }
 
