@@ -43,7 +43,7 @@ fn pattern(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -
                     CheckerSpace::Solid => solid_checker_is_even(*scale * p),
                     CheckerSpace::Uv => {
                         let s = *scale * uv.get();
-                        (s.x.floor() + s.y.floor()).rem_euclid(2.0) == 0.0
+                        (floor(s.x) + floor(s.y)).rem_euclid(2.0) == 0.0
                     }
                 };
                 id = if is_even { *even } else { *odd };
@@ -63,9 +63,29 @@ fn pattern(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -
 /// product is negative where the three floors add up to an odd number; a
 /// zero factor makes it zero, which is even.
 fn solid_checker_is_even(s: Vec3) -> bool {
-    let half_turns = (s / std::f32::consts::PI).floor();
-    let parity = half_turns.x as i64 + half_turns.y as i64 + half_turns.z as i64;
+    let half_turns = s / std::f32::consts::PI;
+    let [x, y, z] = half_turns.to_array().map(floor);
+    let parity = x as i64 + y as i64 + z as i64;
     s.cmpeq(Vec3::ZERO).any() || parity & 1 == 0
+}
+
+/// `x.floor()` inline: for an `f32` below 2²³ in size, its truncation
+/// (exact through `i32`) less one where that rounded up; larger ones are
+/// integers already (NaN stays NaN). Only the sign of a zero result may
+/// differ. `floor` is a call into the C library where the CPU has no
+/// rounding instruction (x86-64 before SSE4.1, the build's target).
+#[inline]
+fn floor(x: f32) -> f32 {
+    if x.abs() < 8_388_608.0 {
+        let t = x as i32 as f32;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        x
+    }
 }
 
 /// Bilinear lookup with u wrapping around and v clamped; v = 1 is the top row.
@@ -137,6 +157,35 @@ pub fn turbulence(p: Vec3) -> f32 {
 mod tests {
     use super::*;
     use std::sync::Arc;
+
+    #[test]
+    fn the_inline_floor_is_the_floor() {
+        let mut r = crate::sampling::rng::numbers(4);
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            -1.5,
+            8_388_607.5,
+            -8_388_607.5,
+            8_388_608.0,
+            -8_388_609.0,
+            1e30,
+            -1e30,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        values.extend((0..100_000).map(|k| (r() - 0.5) * 10f32.powi(k % 10 - 3)));
+        for x in values {
+            assert_eq!(floor(x), x.floor(), "{x:e}");
+        }
+        assert!(floor(f32::NAN).is_nan());
+    }
 
     #[test]
     fn solid_checker_follows_the_sine_product() {

@@ -13,12 +13,24 @@ use glam::{Vec2, Vec3};
 /// `sincosf` (a different routine with and without FMA) does not promise.
 #[inline]
 pub fn sin_cos_turn(u: f32) -> (f32, f32) {
+    /// 1.5 · 2²³: an `f32` at least this large is an integer.
+    const MAGIC: f32 = 12_582_912.0;
     // The nearest quarter turn: `4u + 0.5` cannot round across an integer.
     // Its integer is read from the bits of `quarters + 1.5·2²³`, whose
     // last place is 1 (exact for |quarters| < 2²²): unlike `as i32`, which
     // saturates and so compiled to a scalar conversion and two conditional
     // moves per lane, this vectorises in the lanes.
-    let quarters = (4.0 * u + 0.5).trunc();
+    // It is rounded by the same constant (`4u + 0.5` is at least 0, where
+    // truncation is the floor, and below 2²²): adding it rounds to the
+    // nearest integer, one too many where that rounded up. `trunc` was a
+    // call into the C library where the CPU has no rounding instruction.
+    let half_up = 4.0 * u + 0.5;
+    let nearest = (half_up + MAGIC) - MAGIC;
+    let quarters = if nearest > half_up {
+        nearest - 1.0
+    } else {
+        nearest
+    };
     let x = (4.0 * u - quarters) * FRAC_PI_2;
     let x2 = x * x;
     let sin = x
@@ -29,7 +41,6 @@ pub fn sin_cos_turn(u: f32) -> (f32, f32) {
     // Rotate by the quarter turns, (sin, cos) → (cos, −sin) → (−sin, −cos) →
     // (−cos, sin), by bit operations: the quarter is as random as the
     // sample, and a branch on it would go astray three times in four.
-    const MAGIC: f32 = 12_582_912.0;
     let q = (quarters + MAGIC).to_bits().wrapping_sub(MAGIC.to_bits());
     let swap = 0u32.wrapping_sub(q & 1);
     let (sin, cos) = (sin.to_bits(), cos.to_bits());
