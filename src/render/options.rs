@@ -58,6 +58,12 @@ pub struct RenderOptions {
     /// scene allows it (`render::lanes`: the same image, faster); off, one
     /// path at a time everywhere (on by default).
     pub lanes: bool,
+    /// Whether the first round of samples is one per pixel, a coarse image
+    /// of the whole frame at once (for the preview, and for a time budget
+    /// or an interruption that may come before a block of samples is
+    /// done); otherwise the first round is a whole block of the sampler,
+    /// which a render that runs to its end spends less on (on by default).
+    pub coarse_first: bool,
     /// The most bytes the film of the rendered region may take (the same
     /// budget `--memory-budget` gives the scene's evaluation), checked
     /// after the command line's size overrides.
@@ -139,6 +145,7 @@ impl RenderOptions {
             sample_offset: 0,
             pass: 0,
             lanes: true,
+            coarse_first: true,
             memory_budget: DEFAULT_MEMORY_BUDGET,
         }
     }

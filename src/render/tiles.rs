@@ -36,17 +36,19 @@ const _: () = assert!(BLOCK as usize <= crate::geometry::bvh::PACKET);
 const ROUND_MAX: u32 = 16;
 
 /// The samples per pixel a film holds after the round that follows one
-/// holding `reached`: a first round of one sample (a coarse image for the
-/// preview at once), a second up to [`BLOCK`], then doubling, at most
+/// holding `reached`: with `coarse_first`, a first round of one sample (a
+/// coarse image for the preview at once) and a second up to [`BLOCK`];
+/// without, a first round of [`BLOCK`]; then doubling, at most
 /// [`ROUND_MAX`] at a time (1, 8, 16, 32, 48, …), never past `spp`. The
 /// sampler computes a slot's draws for a block of samples at once, anew in
 /// every round that reaches the block, so rounds past the first end on
 /// blocks: rounds of 1, 2 and 4 samples recomputed the first block three
 /// more times, 1 % of a 64-spp Cornell render's instructions
-/// (docs/performance.md, session 18).
-fn next_round(reached: u32, spp: u32) -> u32 {
+/// (docs/performance.md, session 18); the coarse round of one sample costs
+/// the random spheres 1.3 % of their instructions at 64 spp (session 25).
+fn next_round(reached: u32, spp: u32, coarse_first: bool) -> u32 {
     let next = match reached {
-        0 => 1,
+        0 if coarse_first => 1,
         r if r < BLOCK => BLOCK,
         r => r + r.min(ROUND_MAX),
     };
@@ -185,7 +187,7 @@ pub fn render_film(
         let target = if options.noise.is_some() {
             options.spp
         } else {
-            next_round(reached, options.spp)
+            next_round(reached, options.spp, options.coarse_first)
         };
         let job = Job {
             tracer: &tracer,
@@ -458,20 +460,28 @@ mod tests {
 
     #[test]
     fn rounds_start_with_one_sample_then_end_on_the_samplers_blocks() {
-        let rounds = |spp: u32| {
+        let rounds = |spp: u32, coarse: bool| {
             let mut at = vec![0];
             while *at.last().unwrap() < spp {
-                at.push(next_round(*at.last().unwrap(), spp));
+                at.push(next_round(*at.last().unwrap(), spp, coarse));
             }
             at
         };
-        assert_eq!(rounds(64), [0, 1, 8, 16, 32, 48, 64]);
-        assert_eq!(rounds(12), [0, 1, 8, 12]);
-        assert_eq!(rounds(1), [0, 1]);
+        assert_eq!(rounds(64, true), [0, 1, 8, 16, 32, 48, 64]);
+        assert_eq!(rounds(12, true), [0, 1, 8, 12]);
+        assert_eq!(rounds(1, true), [0, 1]);
+        assert_eq!(rounds(64, false), [0, 8, 16, 32, 48, 64]);
+        assert_eq!(rounds(5, false), [0, 5]);
         // A resumed film goes on to the next block, then by blocks.
-        assert_eq!(next_round(4, 64), 8);
+        assert_eq!(next_round(4, 64, true), 8);
+        assert_eq!(next_round(4, 64, false), 8);
         for spp in 1..200 {
-            assert!(rounds(spp)[2..].iter().all(|&r| r % BLOCK == 0 || r == spp));
+            assert!(rounds(spp, true)[2..]
+                .iter()
+                .all(|&r| r % BLOCK == 0 || r == spp));
+            assert!(rounds(spp, false)[1..]
+                .iter()
+                .all(|&r| r % BLOCK == 0 || r == spp));
         }
     }
 
