@@ -273,7 +273,10 @@ impl PrimitiveSet {
                 }
             },
         );
-        for ((ray, hit), found) in rays.iter().zip(out.iter_mut()).zip(best) {
+        // `best` by reference: moved into the iterator, it was copied first
+        // (a call to memmove), and each crossing read back from the copy
+        // waited on its stores.
+        for ((ray, hit), found) in rays.iter().zip(out.iter_mut()).zip(&best) {
             *hit = found.map(|(c, slot)| {
                 let (h, material, light) = self.hit(slot, ray, &c);
                 facing(h, h.normal, ray.dir, material, light)
