@@ -278,7 +278,17 @@ impl PrimitiveSet {
         // waited on its stores.
         for ((ray, hit), found) in rays.iter().zip(out.iter_mut()).zip(&best) {
             *hit = found.map(|(c, slot)| {
-                let (h, material, light) = self.hit(slot, ray, &c);
+                // A sphere's surface built in its own arm: through the
+                // shared match of `Primitive::surface`, each shape wrote
+                // its hit to one stack slot a field at a time, and reading
+                // it back waited on those stores.
+                let (h, material, light) = match &self.prims[slot] {
+                    Primitive::Sphere(sphere) => {
+                        let (material, light) = self.ids(slot);
+                        (sphere.surface(ray, &c), material, light)
+                    }
+                    _ => self.hit(slot, ray, &c),
+                };
                 facing(h, h.normal, ray.dir, material, light)
             });
         }
