@@ -243,10 +243,20 @@ impl<'a> Tracer<'a> {
         let n = indices.len();
         assert!(n <= PACKET, "a block holds at most {PACKET} samples");
         let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
+        // The camera's draws lane by lane, then the rays of all lanes at
+        // once (their normalisations' chains side by side).
+        let mut u = [[[0.0; PACKET]; 2]; 2];
+        let mut time = [0.0; PACKET];
         for (k, index) in indices.enumerate() {
             sampler.lane(k);
             sampler.start(x, y, index);
-            paths[k] = Path::new(camera.ray(x, y, sampler));
+            let (film, lens, t) = camera.draws(sampler);
+            [u[0][0][k], u[0][1][k], u[1][0][k], u[1][1][k]] = [film.x, film.y, lens.x, lens.y];
+            time[k] = t;
+        }
+        let rays = camera.rays_from8((x, y), &u, &time);
+        for (path, &ray) in paths.iter_mut().zip(&rays).take(n) {
+            *path = Path::new(ray);
         }
         let mut media = MediumSegments::default();
         let mut live = (1u32 << n) - 1;
