@@ -8,6 +8,25 @@ use crate::sampling::warp::uniform_disk;
 use crate::sampling::{Dim, Sampler};
 use crate::scene::Camera;
 
+/// Eight rays by coordinate, as [`CameraRays::rays_from8`] makes them: a
+/// ray read from here takes each number from one vector store (`[Ray; 8]`,
+/// 28 bytes a ray, was read back across two stores and waited on them).
+#[derive(Clone, Copy, Debug)]
+pub struct RayLanes {
+    origin: [[f32; 8]; 3],
+    dir: [[f32; 8]; 3],
+    time: [f32; 8],
+}
+
+impl RayLanes {
+    /// The ray of lane `i`.
+    #[inline(always)]
+    pub fn ray(&self, i: usize) -> Ray {
+        let at = |v: &[[f32; 8]; 3]| Vec3::new(v[0][i], v[1][i], v[2][i]);
+        Ray::new(at(&self.origin), at(&self.dir), self.time[i])
+    }
+}
+
 /// The camera with its frame precomputed for an image size.
 #[derive(Clone, Debug)]
 pub struct CameraRays {
@@ -100,7 +119,7 @@ impl CameraRays {
         pixel: (u32, u32),
         u: &[[[f32; 8]; 2]; 2],
         time: &[f32; 8],
-    ) -> [Ray; 8] {
+    ) -> RayLanes {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2.
@@ -120,7 +139,7 @@ impl CameraRays {
         pixel: (u32, u32),
         u: &[[[f32; 8]; 2]; 2],
         time: &[f32; 8],
-    ) -> [Ray; 8] {
+    ) -> RayLanes {
         self.rays_from8_lanes(pixel, u, time)
     }
 
@@ -131,13 +150,22 @@ impl CameraRays {
         (x, y): (u32, u32),
         [film, lens]: &[[[f32; 8]; 2]; 2],
         time: &[f32; 8],
-    ) -> [Ray; 8] {
-        let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO, 0.0); 8];
-        for (i, ray) in rays.iter_mut().enumerate() {
+    ) -> RayLanes {
+        let mut lanes = RayLanes {
+            origin: [[0.0; 8]; 3],
+            dir: [[0.0; 8]; 3],
+            time: [0.0; 8],
+        };
+        for i in 0..8 {
             let at = |u: &[[f32; 8]; 2]| Vec2::new(u[0][i], u[1][i]);
-            *ray = self.ray_from(x, y, at(film), at(lens), time[i]);
+            let ray = self.ray_from(x, y, at(film), at(lens), time[i]);
+            for a in 0..3 {
+                lanes.origin[a][i] = ray.origin[a];
+                lanes.dir[a][i] = ray.dir[a];
+            }
+            lanes.time[i] = ray.time;
         }
-        rays
+        lanes
     }
 
     /// Whether rays start on a lens (a lens draw places them).

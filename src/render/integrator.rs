@@ -255,8 +255,8 @@ impl<'a> Tracer<'a> {
             time[k] = t;
         }
         let rays = camera.rays_from8((x, y), &u, &time);
-        for (path, &ray) in paths.iter_mut().zip(&rays).take(n) {
-            *path = Path::new(ray);
+        for (k, path) in paths.iter_mut().enumerate().take(n) {
+            *path = Path::new(rays.ray(k));
         }
         let mut media = MediumSegments::default();
         let mut live = (1u32 << n) - 1;
