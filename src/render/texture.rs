@@ -64,8 +64,8 @@ fn pattern(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -
 /// zero factor makes it zero, which is even.
 fn solid_checker_is_even(s: Vec3) -> bool {
     let half_turns = s / std::f32::consts::PI;
-    let [x, y, z] = half_turns.to_array().map(floor);
-    let parity = x as i64 + y as i64 + z as i64;
+    let [x, y, z] = half_turns.to_array().map(floor_i64);
+    let parity = x.wrapping_add(y).wrapping_add(z);
     s.cmpeq(Vec3::ZERO).any() || parity & 1 == 0
 }
 
@@ -86,6 +86,15 @@ fn floor(x: f32) -> f32 {
     } else {
         x
     }
+}
+
+/// `x.floor() as i64` without a branch: the truncation less one where it
+/// rounded up (a branch on that went astray for every other sign of a
+/// checker coordinate); saturating as the cast does.
+#[inline]
+fn floor_i64(x: f32) -> i64 {
+    let t = x as i64;
+    t.saturating_sub(i64::from(t as f32 > x))
 }
 
 /// Bilinear lookup with u wrapping around and v clamped; v = 1 is the top row.
@@ -174,6 +183,10 @@ mod tests {
             8_388_608.0,
             -8_388_609.0,
             1e30,
+            9.3e18,
+            -9.3e18,
+            2_147_483_648.0,
+            -2_147_483_649.0,
             -1e30,
             f32::MAX,
             f32::MIN,
@@ -183,8 +196,10 @@ mod tests {
         values.extend((0..100_000).map(|k| (r() - 0.5) * 10f32.powi(k % 10 - 3)));
         for x in values {
             assert_eq!(floor(x), x.floor(), "{x:e}");
+            assert_eq!(floor_i64(x), x.floor() as i64, "{x:e}");
         }
         assert!(floor(f32::NAN).is_nan());
+        assert_eq!(floor_i64(f32::NAN), 0);
     }
 
     #[test]
