@@ -144,6 +144,52 @@ impl SphereLeaf {
     /// side by side instead of one chain after another.
     #[inline]
     pub fn roots(&self, ray: &Ray) -> [Option<Roots>; LANES] {
+        let (c, q, missed, len) = self.quadratics(ray);
+        let (c, q) = (c.to_array(), q.to_array());
+        std::array::from_fn(|i| {
+            if missed >> i & 1 != 0 {
+                None
+            } else {
+                Some(Roots::from_quadratic(c[i], q[i], len))
+            }
+        })
+    }
+
+    /// Each lane's crossing in `(t_min, ∞)`, as [`Roots::crossing`] gives
+    /// it from the lane's [`SphereLeaf::roots`], all four lanes at once
+    /// (their divisions too): the lanes that have one (bit `i` for lane
+    /// `i`), each lane's `t` and its root along the unit direction (the
+    /// crossing's `data.x`). Read from vectors, the crossings are not
+    /// written to memory a field at a time and read back.
+    #[inline]
+    pub fn crossings(&self, ray: &Ray, t_min: f32) -> (u32, [f32; LANES], [f32; LANES]) {
+        let (c, q, missed, len) = self.quadratics(ray);
+        // `Roots::from_quadratic`: (c / q, q), both 0 where q is, in order.
+        let zero = q.cmp_eq(f32x4::ZERO);
+        let a = zero.blend(f32x4::ZERO, c / q);
+        let b = zero.blend(f32x4::ZERO, q);
+        let swap = a.cmp_gt(b);
+        let (t0, t1) = (swap.blend(b, a), swap.blend(a, b));
+        // `Roots::crossing(t_min, ∞)`: the nearer root inside, on the
+        // unit direction's scale.
+        let lo = f32x4::splat(t_min * len);
+        let hi = f32x4::splat(f32::INFINITY * len);
+        let first = t0.cmp_gt(lo) & t0.cmp_lt(hi);
+        let second = t1.cmp_gt(lo) & t1.cmp_lt(hi);
+        let root = first.blend(t0, t1);
+        let found = (first | second).move_mask() as u32 & !missed;
+        (
+            found,
+            (root / f32x4::splat(len)).to_array(),
+            root.to_array(),
+        )
+    }
+
+    /// What both [`SphereLeaf::roots`] and [`SphereLeaf::crossings`] start
+    /// from: each lane's `c` and `q` of the stable quadratic, the lanes
+    /// whose line misses (bit `i` for lane `i`), and the direction's length.
+    #[inline(always)]
+    fn quadratics(&self, ray: &Ray) -> (f32x4, f32x4, u32, f32) {
         let len = ray.dir.length_squared().sqrt();
         let [dx, dy, dz] = (ray.dir / len).to_array().map(f32x4::splat);
         let [fx, fy, fz] = [0, 1, 2].map(|a| f32x4::splat(ray.origin[a]) - self.center[a]);
@@ -158,14 +204,8 @@ impl SphereLeaf {
         let q = -b - sign * disc.sqrt();
         let fl = (fx * fx + fy * fy + fz * fz).sqrt();
         let c = (fl - r) * (fl + r);
-        let (disc, q, c) = (disc.to_array(), q.to_array(), c.to_array());
-        std::array::from_fn(|i| {
-            if disc[i] < 0.0 {
-                None
-            } else {
-                Some(Roots::from_quadratic(c[i], q[i], len))
-            }
-        })
+        let missed = disc.cmp_lt(f32x4::ZERO).move_mask() as u32;
+        (c, q, missed, len)
     }
 }
 
@@ -312,7 +352,7 @@ mod tests {
     #[test]
     fn sphere_leaf_keeps_every_lane_the_scalar_test_hits_and_the_same_nearest() {
         let mut r = numbers(11);
-        let (mut kept, mut hits) = (0, 0);
+        let (mut kept, mut hits, mut crossed) = (0, 0, 0);
         for group in 0..200 {
             let count = 1 + group % LANES;
             let far = [0.0, 1e3, 1e5][group % 3];
@@ -328,6 +368,15 @@ mod tests {
                 let lanes = leaf.candidates(&ray);
                 assert_eq!(lanes & !all_lanes(count), 0);
                 let roots = leaf.roots(&ray);
+                // All four lanes' crossings at once are each lane's own.
+                let (found, t, root) = leaf.crossings(&ray, 1e-4);
+                for (i, roots) in roots.iter().enumerate().take(count) {
+                    let one = roots.and_then(|r| r.crossing(1e-4, f32::INFINITY));
+                    let both = (found >> i & 1 != 0).then(|| (t[i].to_bits(), root[i].to_bits()));
+                    let bits = one.map(|c| (c.t.to_bits(), c.data.x.to_bits()));
+                    assert_eq!(both, bits, "lane {i}");
+                    crossed += usize::from(one.is_some());
+                }
                 let (scalar, packed, k) = scalar_and_kept(
                     count,
                     lanes,
@@ -349,6 +398,7 @@ mod tests {
             }
         }
         assert!(hits > 5000 && kept > hits, "too few hits: {hits} of {kept}");
+        assert!(crossed > hits, "too few crossings: {crossed}");
     }
 
     /// Triangles sharing edges and vertices (a fan), and rays aimed at

@@ -252,13 +252,11 @@ impl PrimitiveSet {
                         if lanes == 0 {
                             continue;
                         }
-                        let roots = leaf.roots(ray);
-                        for slot in slots(first, lanes) {
-                            let c =
-                                roots[slot - first].and_then(|r| r.crossing(t_min, f32::INFINITY));
-                            if let Some(c) = c {
-                                keep(k, slot, c, t_max);
-                            }
+                        let (found, t, root) = leaf.crossings(ray, t_min);
+                        for slot in slots(first, lanes & found) {
+                            let i = slot - first;
+                            let data = glam::Vec3::new(root[i], 0.0, 0.0);
+                            keep(k, slot, Crossing { t: t[i], data }, t_max);
                         }
                     }
                 } else {
