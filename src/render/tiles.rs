@@ -367,6 +367,38 @@ impl PixelSums {
 }
 
 impl Job<'_> {
+    /// Adds to `px` the samples `from..target` of pixel `(x, y)` in a
+    /// world whose rays walk `set` in packets: a block of the sampler at a
+    /// time, its paths side by side, each bounce's rays one packet. Kept
+    /// out of the tile loop: inlined there, it changed how the compiler
+    /// laid out the one-ray path of other worlds, and the book-2 scene ran
+    /// 1/1.05 as fast with no more instructions (session 25).
+    #[inline(never)]
+    fn packet_pixel(
+        &self,
+        set: &PrimitiveSet,
+        sampler: &mut Sampler,
+        (x, y): (u32, u32),
+        from: u32,
+        px: &mut PixelSums,
+        r: &mut TileResult,
+    ) {
+        let mut s = from;
+        while s < self.target {
+            let index = self.first + s;
+            let count = (BLOCK - index % BLOCK).min(self.target - s);
+            self.tracer.samples(
+                set,
+                self.camera,
+                sampler,
+                (x, y),
+                index..index + count,
+                |l, rays| px.add(l, rays, self.clamp, r),
+            );
+            s += count;
+        }
+    }
+
     fn tile(&self, film: &Film, tile: Crop) -> TileResult {
         let n = (tile.width() * tile.height()) as usize;
         let mut r = TileResult {
@@ -408,22 +440,8 @@ impl Job<'_> {
                         }
                     }
                     (None, Some(set)) => {
-                        // A block of the sampler at a time: its paths go
-                        // side by side, each bounce's rays one packet.
-                        let mut s = film.taken[i];
-                        while s < self.target {
-                            let index = self.first + s;
-                            let count = (BLOCK - index % BLOCK).min(self.target - s);
-                            self.tracer.samples(
-                                set,
-                                self.camera,
-                                &mut sampler,
-                                (x, y),
-                                index..index + count,
-                                |l, rays| px.add(l, rays, self.clamp, &mut r),
-                            );
-                            s += count;
-                        }
+                        let from = film.taken[i];
+                        self.packet_pixel(set, &mut sampler, (x, y), from, &mut px, &mut r);
                     }
                     (None, None) => {
                         for s in film.taken[i]..self.target {
