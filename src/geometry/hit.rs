@@ -50,6 +50,28 @@ impl Hit {
     }
 }
 
+/// [`facing`] for a hit whose shading normal is its geometric one: both
+/// turned by the same sign are the same vector, whose dot product with
+/// itself is never negative, so the test for an inward shading normal is
+/// left out (the same `Hit`, bit for bit).
+#[inline]
+pub fn facing_flat(h: ShapeHit, dir: Vec3, material: MaterialId, light: LightId) -> Hit {
+    let front_face = h.normal.dot(dir) < 0.0;
+    let sign = if front_face { 1.0 } else { -1.0 };
+    let geo_normal = h.normal * sign;
+    Hit {
+        t: h.t,
+        point: h.point,
+        error: h.error,
+        geo_normal,
+        normal: geo_normal,
+        uv: h.uv,
+        front_face,
+        material,
+        light,
+    }
+}
+
 /// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
 #[inline]
 pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId, light: LightId) -> Hit {
@@ -98,5 +120,45 @@ impl From<Vec2> for SurfaceUv {
     #[inline]
     fn from(uv: Vec2) -> SurfaceUv {
         SurfaceUv::At(uv)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::rng::numbers;
+
+    /// A hit whose shading normal is its geometric one faces the ray the
+    /// same, bit for bit, without the test for an inward shading normal:
+    /// unit, tiny, huge, zero and NaN normals, along and across the ray.
+    #[test]
+    fn a_flat_hit_faces_the_ray_as_any_hit_does() {
+        let mut r = numbers(11);
+        let mut v = || Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5);
+        let mut normals = vec![
+            Vec3::ZERO,
+            Vec3::NAN,
+            Vec3::new(1e-30, 0.0, -1e-30),
+            Vec3::splat(1e30),
+        ];
+        normals.extend((0..2000).map(|k| v() * [1.0, 1e-20, 1e20][k % 3]));
+        let bits = |h: &Hit| {
+            let v = |v: Vec3| v.to_array().map(f32::to_bits);
+            (v(h.geo_normal), v(h.normal), h.front_face)
+        };
+        for n in normals {
+            for dir in [v(), n, -n, Vec3::X] {
+                let h = ShapeHit {
+                    t: 1.0,
+                    point: Vec3::ONE,
+                    error: Vec3::ZERO,
+                    normal: n,
+                    uv: SurfaceUv::At(glam::Vec2::ZERO),
+                };
+                let any = facing(h, h.normal, dir, MaterialId(3), LightId::NONE);
+                let flat = facing_flat(h, dir, MaterialId(3), LightId::NONE);
+                assert_eq!(bits(&flat), bits(&any), "normal {n}, dir {dir}");
+            }
+        }
     }
 }

@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::emitter::LightId;
 use super::group::Group;
-use super::hit::facing;
+use super::hit::{facing, facing_flat};
 use super::medium::{Medium, MediumSegments};
 use super::mesh::MeshGeometry;
 use super::primitives::{Primitive, PrimitiveSet};
@@ -94,7 +94,7 @@ impl Geometry {
             Geometry::Primitives(p) => p.intersect_facing(ray, t_min, t_max),
             Geometry::Single(p, m, light) => {
                 let h = p.intersect(ray, t_min, t_max)?;
-                Some(facing(h, h.normal, ray.dir, *m, *light))
+                Some(facing_flat(h, ray.dir, *m, *light))
             }
             Geometry::Mesh(mesh) => {
                 let h = mesh.intersect(ray, t_min, t_max)?;
@@ -115,11 +115,11 @@ impl Geometry {
                     normal: s.normal,
                     uv: s.uv.into(),
                 };
-                Some(facing(h, h.normal, ray.dir, *material, LightId::NONE))
+                Some(facing_flat(h, ray.dir, *material, LightId::NONE))
             }
             Geometry::Plane { plane, material } => {
                 let h = plane.intersect(ray, t_min, t_max)?;
-                Some(facing(h, h.normal, ray.dir, *material, LightId::NONE))
+                Some(facing_flat(h, ray.dir, *material, LightId::NONE))
             }
             Geometry::Group(g) => g.intersect(ray, t_min, t_max, media),
             Geometry::Medium(m) => {

@@ -7,7 +7,7 @@
 use super::bvh::{bits, Leaves, PACKET};
 use super::emitter::LightId;
 use super::flat::{FlatFaces, Hits8, Nearest8, RAYS};
-use super::hit::facing;
+use super::hit::facing_flat;
 use super::leaf::{slots, Packs, SphereLeaf};
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Hit, Ray};
@@ -216,7 +216,7 @@ impl PrimitiveSet {
             return self.flat_hit(flat, ray, t_min, t_max);
         }
         let (h, material, light) = self.intersect(ray, t_min, t_max)?;
-        Some(facing(h, h.normal, ray.dir, material, light))
+        Some(facing_flat(h, ray.dir, material, light))
     }
 
     /// The nearest hits in `(t_min, ∞)` of up to [`PACKET`] rays that cross
@@ -287,7 +287,7 @@ impl PrimitiveSet {
                     }
                     _ => self.hit(slot, ray, &c),
                 };
-                facing(h, h.normal, ray.dir, material, light)
+                facing_flat(h, ray.dir, material, light)
             });
         }
     }
@@ -362,7 +362,7 @@ impl PrimitiveSet {
     pub fn flat_hit_at(&self, slot: usize, ray: &Ray, c: &Crossing) -> Hit {
         let h = self.flat_surface(slot, ray, c);
         let (material, light) = self.ids(slot);
-        facing(h, h.normal, ray.dir, material, light)
+        facing_flat(h, ray.dir, material, light)
     }
 
     /// The surface at crossing `c` of a flat set's slot `slot`: the two
