@@ -476,9 +476,9 @@ fn options_for(
         options.spp = args.spp.unwrap_or(TIME_BUDGET_SPP_CAP);
     }
     // A render that runs to its end starts with a whole block of samples,
-    // not a coarse round of one (2.8 % faster on the random spheres at
-    // 64 spp, docs/performance.md, session 25); a time budget keeps the
-    // coarse round.
+    // not a coarse round of one (1.3 % fewer instructions on the random
+    // spheres at 64 spp, docs/performance.md, session 25); a time budget
+    // keeps the coarse round.
     options.coarse_first = args.time.is_some();
     options.crop = match args.tile {
         Some(t) => Some(t.crop(options.width, options.height).ok_or_else(|| {

@@ -72,27 +72,19 @@ pub fn facing_flat(h: ShapeHit, dir: Vec3, material: MaterialId, light: LightId)
     }
 }
 
-/// Turns an outward-normal hit into a [`Hit`] whose normals face the ray.
+/// Turns an outward-normal hit into a [`Hit`] whose normals face the ray:
+/// [`facing_flat`]'s, with the shading normal `shading` turned the same
+/// way, unless that points into the surface.
 #[inline]
 pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId, light: LightId) -> Hit {
-    let front_face = h.normal.dot(dir) < 0.0;
-    let sign = if front_face { 1.0 } else { -1.0 };
-    let geo_normal = h.normal * sign;
-    let mut normal = shading * sign;
-    if normal.dot(geo_normal) < 0.0 {
-        normal = geo_normal;
-    }
-    Hit {
-        t: h.t,
-        point: h.point,
-        error: h.error,
-        geo_normal,
-        normal,
-        uv: h.uv,
-        front_face,
-        material,
-        light,
-    }
+    let mut hit = facing_flat(h, dir, material, light);
+    let normal = shading * if hit.front_face { 1.0 } else { -1.0 };
+    hit.normal = if normal.dot(hit.geo_normal) < 0.0 {
+        hit.geo_normal
+    } else {
+        normal
+    };
+    hit
 }
 
 /// A hit's (u, v), kept in the form its shape found cheapest: most shapes

@@ -69,20 +69,14 @@ fn solid_checker_is_even(s: Vec3) -> bool {
     s.cmpeq(Vec3::ZERO).any() || parity & 1 == 0
 }
 
-/// `x.floor()` inline: for an `f32` below 2²³ in size, its truncation
-/// (exact through `i32`) less one where that rounded up; larger ones are
-/// integers already (NaN stays NaN). Only the sign of a zero result may
-/// differ. `floor` is a call into the C library where the CPU has no
-/// rounding instruction (x86-64 before SSE4.1, the build's target).
+/// `x.floor()` inline: below 2²³ in size, [`floor_i64`]'s integer; larger
+/// numbers are integers already (NaN stays NaN). Only the sign of a zero
+/// result may differ. `floor` is a call into the C library where the CPU
+/// has no rounding instruction (x86-64 before SSE4.1, the build's target).
 #[inline]
 fn floor(x: f32) -> f32 {
     if x.abs() < 8_388_608.0 {
-        let t = x as i32 as f32;
-        if t > x {
-            t - 1.0
-        } else {
-            t
-        }
+        floor_i64(x) as f32
     } else {
         x
     }

@@ -232,14 +232,16 @@ impl Sampler {
     /// Moves to sample `index` of pixel `(x, y)`, at its first bounce.
     #[inline]
     pub fn start(&mut self, x: u32, y: u32, index: u32) {
-        if self.kind == SamplerKind::Independent {
-            self.at_mut().rng = Rng::for_sample(self.seed, x, y, index);
+        let (kind, seed, pixel) = (self.kind, self.seed, self.pixel_seeds(x, y).0);
+        let at = self.at_mut();
+        if kind == SamplerKind::Independent {
+            at.rng = Rng::for_sample(seed, x, y, index);
         }
-        self.at_mut().pixel = self.pixel_seeds(x, y).0;
-        self.at_mut().index = index;
-        self.at_mut().bounce = 0;
-        self.at_mut().slot = 0;
-        self.at_mut().ahead = Held::NONE;
+        at.pixel = pixel;
+        at.index = index;
+        at.bounce = 0;
+        at.slot = 0;
+        at.ahead = Held::NONE;
     }
 
     /// The Sobol' 2-D draw of `slot` from its kept block (computing the

@@ -15,15 +15,14 @@ use glam::{Vec2, Vec3};
 pub fn sin_cos_turn(u: f32) -> (f32, f32) {
     /// 1.5 · 2²³: an `f32` at least this large is an integer.
     const MAGIC: f32 = 12_582_912.0;
-    // The nearest quarter turn: `4u + 0.5` cannot round across an integer.
-    // Its integer is read from the bits of `quarters + 1.5·2²³`, whose
-    // last place is 1 (exact for |quarters| < 2²²): unlike `as i32`, which
+    // The nearest quarter turn, `⌊4u + 0.5⌋` (`4u + 0.5` cannot round
+    // across an integer). Adding 1.5·2²³ rounds a number below 2²² to the
+    // nearest integer; the floor is one less where that rounded up (`trunc`
+    // was a call into the C library where the CPU has no rounding
+    // instruction). The integer is then read from the bits of
+    // `quarters + 1.5·2²³`, whose last place is 1: unlike `as i32`, which
     // saturates and so compiled to a scalar conversion and two conditional
     // moves per lane, this vectorises in the lanes.
-    // It is rounded by the same constant (`4u + 0.5` is at least 0, where
-    // truncation is the floor, and below 2²²): adding it rounds to the
-    // nearest integer, one too many where that rounded up. `trunc` was a
-    // call into the C library where the CPU has no rounding instruction.
     let half_up = 4.0 * u + 0.5;
     let nearest = (half_up + MAGIC) - MAGIC;
     let quarters = if nearest > half_up {
