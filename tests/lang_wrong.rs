@@ -18,7 +18,7 @@ fn every_wrong_scene_is_reported_at_its_cause() {
     check_corpus("tests/wrong", 40, false);
 }
 
-/// The fresh set of issue 15 item 9: mistakes of a POV-Ray or pbrt user
+/// Mistakes of a POV-Ray or pbrt user
 /// (units, braces, property names, types, functions, includes).
 #[test]
 fn every_fresh_wrong_scene_is_reported_at_its_cause() {

@@ -1,4 +1,4 @@
-//! The memory budget (issue 14 item 1): for every allocation whose size a
+//! The memory budget: for every allocation whose size a
 //! scene controls (tessellated revolutions, analytic shells, `repeat`
 //! counts, media, meshes placed many times, light lists, texture images and
 //! the film), the largest scene that the estimate accepts under

@@ -1,4 +1,4 @@
-//! No NaN samples with light sampling (issue 14 item 7): a sweep of small
+//! No NaN samples with light sampling: a sweep of small
 //! generated scenes — a floor (infinite plane or huge rect) under one small
 //! light (one-sided rect or sphere), seen by a camera looking level at the
 //! horizon — and the issue's own scene render with next-event estimation

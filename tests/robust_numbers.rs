@@ -1,4 +1,4 @@
-//! Numbers at the extremes (issue 14): motions NaN or infinite for part of
+//! Numbers at the extremes: motions NaN or infinite for part of
 //! the shutter are refused at their span; the singular-transform and camera
 //! checks are relative to the scene's own scale; a triangle far from the
 //! origin renders like the same scene at unit size, and past the coordinate

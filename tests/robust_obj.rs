@@ -1,4 +1,4 @@
-//! OBJ problems as diagnostics (issue 14 item 6): each broken file in
+//! OBJ problems as diagnostics: each broken file in
 //! `tests/fixtures/obj_errors/` is reported at its own `file:line:column`
 //! with the offending line shown and underlined, like a scene error, and
 //! the scene's `mesh` statement named; the rendered diagnostics are kept as

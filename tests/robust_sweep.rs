@@ -1,4 +1,4 @@
-//! A sweep, not a list (issue 14 item 11): one scene with every kind of
+//! A sweep, not a list: one scene with every kind of
 //! shape (sphere, plane, rect, box, triangle, OBJ mesh, tessellated and
 //! analytic revolution, medium) and material (diffuse, metal, glass, light,
 //! isotropic) is translated by 1 … 1e7 and scaled by 1e-8 … 1e8, camera

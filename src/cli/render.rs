@@ -477,7 +477,7 @@ fn options_for(
     }
     // A render that runs to its end starts with a whole block of samples,
     // not a coarse round of one (1.3 % fewer instructions on the random
-    // spheres at 64 spp, docs/performance.md, session 25); a time budget
+    // spheres at 64 spp); a time budget
     // keeps the coarse round.
     options.coarse_first = args.time.is_some();
     options.crop = match args.tile {

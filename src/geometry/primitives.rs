@@ -60,8 +60,8 @@ impl Primitive {
 
     /// The nearest crossing with `t` in `(t_min, t_max)`, without its
     /// surface data. Always inlined: a BVH walk's visit is this test, and
-    /// left to the compiler it was once kept out of the walk (random spheres
-    /// +2.3 % instructions, docs/performance.md, session 18).
+    /// the compiler left to itself may keep it out of the walk (random
+    /// spheres +2.3 % instructions).
     #[inline(always)]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
         match self {
@@ -113,10 +113,9 @@ impl PrimitiveSet {
         let bounds: Vec<Aabb> = items.iter().map(|(p, _, _)| p.bounds()).collect();
         // Spheres get full leaves, packed; other primitives keep the scalar
         // tree's leaves (whose order decides ties between coplanar faces).
-        // Pricing every leaf as packed made the boxes' leaves full too and
-        // cost the book-2 scene 27 % more instructions; pricing only the
-        // leaves of spheres as packed saved it 1.3 % (docs/performance.md,
-        // sessions 6 and 14).
+        // Pricing every leaf as packed would make the boxes' leaves full too
+        // and cost the book-2 scene 27 % more instructions; pricing only the
+        // leaves of spheres as packed saves it 1.3 %.
         let spheres: Vec<bool> = items.iter().map(|(p, _, _)| p.sphere().is_some()).collect();
         let leaves = if spheres.iter().all(|&s| s) {
             Leaves::Packed
@@ -169,8 +168,8 @@ impl PrimitiveSet {
         let mut best = None;
         // The leaf visit is inlined into the walk rather than called once per
         // leaf: with the eight-wide walk, renders of the Cornell box and the
-        // spheres took 3 % and 6 % fewer instructions and 3.5 % and 6 % less
-        // CPU time (docs/performance.md, Session 10).
+        // spheres take 3 % and 6 % fewer instructions and 3.5 % and 6 % less
+        // CPU time than with a call.
         self.bvh.traverse_leaves(
             ray,
             t_max,
@@ -294,11 +293,11 @@ impl PrimitiveSet {
 
     /// [`PrimitiveSet::intersect_facing`] of a flat set, built in the one
     /// function that writes the caller's result. Kept out of line: inlined,
-    /// it made the walk's own code too large to inline its tests, and the
-    /// random spheres took 3 % more instructions (session 14). Returned through two
-    /// layers (the set's hit, then the facing one), the hit was copied field
-    /// by field between stack slots: the Cornell box took 2 % more
-    /// instructions and 3 % more time (docs/performance.md, session 15).
+    /// it makes the walk's own code too large to inline its tests, and the
+    /// random spheres take 3 % more instructions. Returned through two
+    /// layers (the set's hit, then the facing one), the hit is copied field
+    /// by field between stack slots: the Cornell box takes 2 % more
+    /// instructions and 3 % more time.
     #[inline(never)]
     fn flat_hit(&self, flat: &FlatFaces, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let (slot, c) = flat.nearest(ray, t_min, t_max)?;
@@ -367,9 +366,8 @@ impl PrimitiveSet {
 
     /// The surface at crossing `c` of a flat set's slot `slot`: the two
     /// shapes such a set holds are built here, inlined, rather than called
-    /// through `Primitive::surface`, whose hit came back in memory (0.7 %
-    /// fewer instructions, faster in 27 of 32 rounds: docs/performance.md,
-    /// session 15).
+    /// through `Primitive::surface`, whose hit comes back in memory (0.7 %
+    /// fewer instructions, faster in 27 of 32 timed runs).
     #[inline(always)]
     fn flat_surface(&self, slot: usize, ray: &Ray, c: &Crossing) -> ShapeHit {
         match &self.prims[slot] {

@@ -59,9 +59,9 @@ pub const fn gamma(n: u32) -> f32 {
 /// (moved by the rounding margin, a floor 1e6 from the origin rose 0.24
 /// units towards a lamp 4 units above it, and its `nee` and `path` images
 /// disagreed: tests/robust_far.rs). No branch per component: which way a
-/// component steps was as random as the directions rays leave in, and the
+/// component steps is as random as the directions rays leave in, and such
 /// branches cost 4 % of a Cornell render's instructions and more of its
-/// time (docs/performance.md, session 15).
+/// time.
 #[inline(always)]
 pub fn offset_origin(p: Vec3, error: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     let na = n.abs();

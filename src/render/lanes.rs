@@ -36,8 +36,7 @@ type Lane<T> = [T; WIDTH];
 /// Live lanes from which a flat set's crossings are found eight rays to a
 /// pass rather than a ray at a time: with fewer, the eight-ray passes'
 /// dead lanes cost more than the one-ray passes' reductions (on the
-/// Cornell box with AVX-512F, 2: 0.98x of 4, 3 and 5 within 1 %, 7: 0.97x;
-/// docs/performance.md, session 22).
+/// Cornell box with AVX-512F, 2: 0.98x of 4, 3 and 5 within 1 %, 7: 0.97x).
 const SIDE_BY_SIDE: usize = 4;
 
 /// How a material scatters, as the lanes know it.
@@ -154,13 +153,12 @@ impl<'a> Lanes<'a> {
             // The bounce's draws (light point, direction, roulette), made
             // before the rays are traced so that their chains of
             // multiplications run beside the tracing: 1.02-1.03x the
-            // Cornell box's rate (docs/performance.md, session 20; ahead of
-            // the tracing by themselves neither the first two nor the last
-            // gained). A draw is wasted when no live lane needs it. The
+            // Cornell box's rate (moved ahead by themselves, neither the
+            // first two nor the last gain). A draw is wasted when no live lane needs it. The
             // three are one pass, which also makes the next bounce's index
             // shuffles, so that every chain of multiplications in it runs
             // beside the others: 1.035x the rate of three passes of both
-            // steps each (docs/performance.md, session 21).
+            // steps each.
             let next = bounce_seeds(depth + 1);
             let [light, bsdf, roulette];
             ([light, bsdf, roulette], shuffled) =
@@ -375,8 +373,8 @@ struct Shaded {
 /// draws (film and lens points, times), compiled for the CPU at hand. The
 /// lanes keep their rays as `Ray`s, so they are made as such here, where
 /// the packet paths take them by coordinate
-/// ([`CameraRays::rays_from8`]): the Cornell box made them by coordinate
-/// and read each lane's out was 1/1.03 as fast (session 25).
+/// ([`CameraRays::rays_from8`]): making them by coordinate and reading
+/// each lane's out makes the Cornell box 3 % slower.
 #[inline]
 fn camera_rays(
     camera: &CameraRays,

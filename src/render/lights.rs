@@ -698,9 +698,8 @@ mod tests {
         check_rect_solid_angle(2.0);
     }
 
-    /// Issue 14, item 3: a rect with edges of 2e10 is sampled like its
-    /// unit-sized copy (its area used to overflow f32, which silently dropped
-    /// it from the list), and so is a sphere of radius 2e17 (beyond about
+    /// A rect with edges of 2e10 is sampled like its unit-sized copy (its
+    /// area in f32 would overflow and silently drop it from the list), and so is a sphere of radius 2e17 (beyond about
     /// 1e18 the squared distances of f32 vectors themselves overflow).
     #[test]
     fn huge_lights_are_sampled_with_the_solid_angle_of_small_ones() {
@@ -825,7 +824,7 @@ mod tests {
         }
     }
 
-    /// Issue 13, item 4: a hit names its light, and the density found from
+    /// A hit names its light, and the density found from
     /// that name (no search over lights or materials; by the tree, the
     /// product of the shares along the light's path from the root) is the
     /// tree's probability of choosing that light from the shading point

@@ -17,10 +17,9 @@ const MAX_NESTING: u32 = 16;
 #[inline]
 pub fn lookup(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -> Vec3 {
     match scene.texture(id) {
-        // By component: `*c` was copied through a stack slot as 8 + 4 bytes
-        // and read back as 4 + 8, a load the CPU cannot forward from the two
-        // stores (Cornell 1.8 % faster by component, docs/performance.md,
-        // session 16).
+        // By component: `*c` whole is copied through a stack slot as 8 + 4
+        // bytes and read back as 4 + 8, a load the CPU cannot forward from
+        // the two stores (Cornell 1.8 % faster by component).
         Texture::Solid(c) => Vec3::new(c.x, c.y, c.z),
         _ => pattern(scene, id, uv, p),
     }

@@ -42,10 +42,10 @@ const ROUND_MAX: u32 = 16;
 /// [`ROUND_MAX`] at a time (1, 8, 16, 32, 48, …), never past `spp`. The
 /// sampler computes a slot's draws for a block of samples at once, anew in
 /// every round that reaches the block, so rounds past the first end on
-/// blocks: rounds of 1, 2 and 4 samples recomputed the first block three
-/// more times, 1 % of a 64-spp Cornell render's instructions
-/// (docs/performance.md, session 18); the coarse round of one sample costs
-/// the random spheres 1.3 % of their instructions at 64 spp (session 25).
+/// blocks: rounds of 1, 2 and 4 samples would recompute the first block
+/// three more times, 1 % of a 64-spp Cornell render's instructions; the
+/// coarse round of one sample costs the random spheres 1.3 % of their
+/// instructions at 64 spp.
 fn next_round(reached: u32, spp: u32, coarse_first: bool) -> u32 {
     let next = match reached {
         0 if coarse_first => 1,
@@ -371,8 +371,8 @@ impl Job<'_> {
     /// world whose rays walk `set` in packets: a block of the sampler at a
     /// time, its paths side by side, each bounce's rays one packet. Kept
     /// out of the tile loop: inlined there, it changed how the compiler
-    /// laid out the one-ray path of other worlds, and the book-2 scene ran
-    /// 1/1.05 as fast with no more instructions (session 25).
+    /// lays out the one-ray path of other worlds, and the book-2 scene runs
+    /// 5 % slower with no more instructions.
     #[inline(never)]
     fn packet_pixel(
         &self,

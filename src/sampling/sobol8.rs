@@ -261,10 +261,10 @@ pub fn points8(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
 }
 
 /// [`points8`], its lanes of indices and seeds made where the points are.
-/// Made by the caller, outside the AVX2 function, they were stored in
+/// Made by the caller, outside the AVX2 function, they would be stored in
 /// halves and read whole, which the CPU cannot forward: the scalar
-/// sampler's block fills took 11.5 % of a next_week render instead of 5 %
-/// for the same instructions (docs/performance.md, session 22).
+/// sampler's block fills would take 11.5 % of a next_week render instead of
+/// 5 % for the same instructions.
 #[inline(always)]
 fn block_points(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
     let mut index = [first; LANES];

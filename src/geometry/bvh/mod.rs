@@ -88,8 +88,8 @@ fn unpack_key(key: u64) -> (usize, f32) {
 /// ascending order, nearest first, and how many there are. Two (the most
 /// common case) take one branch-free compare-exchange; more, insertion of
 /// each key into the sorted run before it, whose branches follow the
-/// distances (with two children through it too, the bunny's random rays
-/// were 1/1.18 as fast: docs/performance.md, session 17).
+/// distances (sending two children through it too makes the bunny's random
+/// rays 18 % slower).
 #[inline(always)]
 fn ordered_hits(dist: [f32; WIDTH], mut mask: u32) -> ([u64; WIDTH], usize) {
     debug_assert!(mask.count_ones() >= 2);

@@ -7,10 +7,10 @@
 //! normals are the one-ray hit's bit for bit. Without AVX2 the lanes build
 //! their hits one at a time instead.
 //!
-//! Built one at a time, a hit branched on its face's kind and waited on its
-//! crossing lane by lane; twice the hits cost the Cornell box 12 % of its
-//! rate. Built here, with the crossings of [`super::rays8`], the box ran
-//! 1.085x as fast (docs/performance.md, session 22).
+//! Why side by side: built one at a time, a hit branches on its face's kind
+//! and waits on its crossing lane by lane, and building the hits twice costs
+//! the Cornell box 12 % of its rate; built here, next to the crossings of
+//! [`super::rays8`], the box renders 1.085x as fast as one at a time.
 
 use super::rays8::{Nearest8, RAYS};
 use crate::geometry::primitives::Primitive;

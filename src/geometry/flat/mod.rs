@@ -10,17 +10,16 @@
 //! may a tie between two faces at one distance.
 //!
 //! For so few faces one vector pass per pack costs less than a walk, whose
-//! node visits and branches follow each ray (docs/performance.md, session
-//! 14). The passes are written once, generic over the lane type
+//! node visits and branches follow each ray. The passes are written once, generic over the lane type
 //! ([`wide::Wide`]), with the same IEEE operations per lane in every form:
 //! sixteen lanes in AVX-512F registers where the CPU has them (two passes
 //! for the Cornell box's eighteen faces instead of three: 1.11× its
-//! samples/s, docs/performance.md, session 18), else eight lanes as plain
+//! samples/s), else eight lanes as plain
 //! arrays that the compiler turns into vector instructions, compiled twice
 //! with the AVX copy picked at run time. Not `wide::f32x8`, which the
 //! project uses elsewhere: its width is fixed when `wide` is compiled, so
-//! inside a function given AVX at run time it stays two SSE halves (session
-//! 13 measured it at 78 % of the arrays' rate).
+//! inside a function given AVX at run time it stays two SSE halves (78 % of
+//! the arrays' rate).
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;
@@ -42,8 +41,7 @@ use wide::{Lanes8, Wide};
 
 /// Most faces a set may hold to be tested in passes rather than walked:
 /// with more turned boxes in the Cornell box, the passes took 7 % less time
-/// than the walk at 30 faces, 8 % less at 36 and as much at 48
-/// (docs/performance.md, session 14).
+/// than the walk at 30 faces, 8 % less at 36 and as much at 48.
 pub const MAX_FACES: usize = 40;
 
 /// A pack of axis-aligned rects as [`Rect::crossing`] reads them, each
@@ -402,8 +400,7 @@ impl<W: Wide> Packs<W> {
         // the passes a lane at a time: 747 M → 1 064 M instructions for a
         // Cornell render. Comparing the slots' bits as integers split the
         // comparison in halves (AVX has no 256-bit integer compare) and cost
-        // some twenty instructions more than this, with `bits` (session
-        // 15). One lane (the common case) is told by a power-of-two test,
+        // some twenty instructions more than this, with `bits`. One lane (the common case) is told by a power-of-two test,
         // not `count_ones`, which is a dozen instructions without POPCNT.
         lanes &= W::bits::<AVX>(best.slot.eq(best.slot));
         let lane = if lanes & lanes.wrapping_sub(1) == 0 {

@@ -6,7 +6,7 @@
 //! and no lane waits on a reduction across lanes or on another ray's pass.
 //! Where the CPU has AVX-512F a pass is sixteen lanes, two faces against
 //! the eight rays (1.041x the Cornell box's rate of one face in
-//! eight AVX lanes, docs/performance.md, session 22), the two halves merged
+//! eight AVX lanes), the two halves merged
 //! at the end as the chains are; else eight AVX lanes where it has AVX2
 //! ([`super::avx8`]), else the portable arrays.
 //!
@@ -16,8 +16,7 @@
 //! nearer; the chains are then merged nearest first, lowest slot on a tie.
 //! So a tie goes to the lowest slot, as in the one-ray passes, while three
 //! chains of compare-and-blend run side by side instead of one through
-//! eighteen faces (1.03x the Cornell box's rate, docs/performance.md,
-//! session 22).
+//! eighteen faces (1.03x the Cornell box's rate).
 
 #[cfg(target_arch = "x86_64")]
 use super::avx512::{avx512, Lanes16};

@@ -114,9 +114,9 @@ impl Sphere {
         // A negative radius turns the normal inwards (a hollow bubble).
         // One normalisation of the point's offset from the centre, found
         // from the crossing's own `t`: the hit's chain of dependent roots
-        // and divisions was the spheres' longest outside the walk (a second
-        // normalisation and a unit direction cost the random spheres 1/1.07
-        // of their speed, docs/performance.md, session 23).
+        // and divisions is the spheres' longest outside the walk (a second
+        // normalisation and a unit direction would make the random spheres
+        // 7 % slower).
         let rel = ray.origin + c.t * ray.dir - self.center;
         let outward = rel.normalize_or(Vec3::Y);
         let rel = outward * r.abs();
