@@ -440,9 +440,10 @@ fn vase_reference(ray: &Ray, (t_lo, t_hi): (f64, f64)) -> (Option<f64>, f64) {
 #[test]
 fn a_captured_grazing_miss_is_proven_and_a_ray_just_inside_hits() {
     // Captured from `scenes/vase.rt` at 64×64, 8 spp (camera ray, object
-    // space): Newton stalled in the span of piece [0.96, 0.98] and the old
-    // fallback reported a hit at t = 9.2825 and counted a Newton failure,
-    // though the ray passes 1.8e-5 outside the foot of the vase.
+    // space): Newton stalls in the span of piece [0.96, 0.98], and a
+    // fallback that takes the entry of a tolerance-sized box as the hit
+    // reports one at t = 9.2825, though the ray passes 1.8e-5 outside the
+    // foot of the vase.
     let scene_tolerance = 1e-4;
     let surface = RevolutionSurface::new(&vase(), 50, scene_tolerance);
     let ray = Ray::new(

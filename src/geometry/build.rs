@@ -11,7 +11,12 @@
 //! motions. f32 coordinates are then finest where the picture is made, so
 //! a small object next to a camera far from the scene's origin keeps its
 //! precision, and the error an object's distance brings stays below what
-//! that distance makes visible.
+//! that distance makes visible. Only a bare analytic revolution and a
+//! prototype placed without a transform get an instance (a `Shift`) for
+//! the move. [`World::origin`] turns frame points back into scene points
+//! where the scene's own coordinates matter (texture lookups, the
+//! preview's probe); the reach limits (`scene::reach`) stay in scene
+//! coordinates.
 
 use std::collections::HashMap;
 use std::sync::Arc;

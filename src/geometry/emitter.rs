@@ -9,6 +9,11 @@
 //! or non-uniformly scaled spherical one, or a one-sided sphere turned
 //! inside out by `flip`) has no entry: its hits count in full, while the
 //! other shapes of its material are still sampled, each on its own.
+//!
+//! A prototype numbers its own emitters from 0; each placement appends them
+//! to the list, and its instance adds that base to the light ids of the
+//! hits below it, so shared geometry still names the emitter of the
+//! placement that was hit.
 
 use glam::{Affine3A, Mat3A, Vec3};
 

@@ -1,4 +1,8 @@
-//! The record of a ray/surface intersection.
+//! The record of a ray/surface intersection. `facing` turns a shape's
+//! outward-normal `ShapeHit` into the [`Hit`]
+//! facing the ray; `facing_flat` does the same, one test shorter, where the
+//! shading normal is the geometric one (every shape but an interpolated
+//! mesh), with the same bits.
 
 use glam::{Vec2, Vec3};
 

@@ -1,5 +1,13 @@
 //! Parsing: source text → [`ast::File`] with byte spans, through the pest
 //! grammar in `grammar/rtlang.pest`, after the limits of [`scan`].
+//!
+//! pest is called for 32 items at a time (its state and line index are
+//! built per call). A file of at least two [`scan::MIN_PIECE`]s is cut at
+//! item starts into one piece per thread, parsed with rayon and joined in
+//! order; if any piece fails, the whole file is parsed again in one piece so
+//! that errors read the same. After a syntax error the parse resumes at the
+//! next item ([`scan::next_item`]), up to ten errors. Expressions with no
+//! operator skip the Pratt parser.
 
 use crate::lang::codes::Code;
 use std::sync::LazyLock;

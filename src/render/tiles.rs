@@ -7,6 +7,14 @@
 //! sample), so the result is bit-identical for any thread count, any crop,
 //! any number of rounds and any interruption resumed from a checkpoint.
 //! Counters are per tile, merged at the end of each round.
+//!
+//! Tiles are 16×16 pixels anchored to the image grid (so a crop or a tile
+//! split sees the same tiles). A pixel's samples go to the lanes
+//! ([`Lanes`]) a block at a time where they apply, else to the packet or
+//! the one-ray path of the [`Tracer`]. NaN and infinite samples are dropped
+//! and counted; `--clamp` and adaptive `--noise` act in the per-pixel loop.
+//! The coarse first round of one sample is taken only where
+//! `RenderOptions::coarse_first` asks (the preview, `--time`).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};

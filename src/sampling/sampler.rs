@@ -1,6 +1,6 @@
 //! The sample handle the camera, materials, lights and integrator draw from:
-//! `next_1d` / `next_2d` numbers in [0, 1), either independent (PCG32, the
-//! old behaviour) or Owen-scrambled Sobol' (the default).
+//! `next_1d` / `next_2d` numbers in [0, 1), either independent (PCG32) or
+//! Owen-scrambled Sobol' (the default).
 //!
 //! A sample depends only on (seed, pixel, sample index, dimension), so an
 //! image is the same for any thread count, crop, tile, round, pass or

@@ -29,8 +29,8 @@ use shell::{AxisRay, Node, Piece, Shells};
 
 /// Relative margin added to a hit's error bound. Newton's roots are
 /// verified only to the tolerance and a leaving ray's search window reaches
-/// slightly past its span, so a rigorous bound is open; this is the old
-/// push-off (2⁻¹⁶ |p|), with which the gallery's mirror renders unbiased.
+/// slightly past its span, so a rigorous bound is open; this is a push-off
+/// of 2⁻¹⁶ |p|, with which the gallery's mirror renders unbiased.
 const LEAVE_MARGIN: f32 = 1.0 / 65536.0;
 
 /// Newton iterations per start before it counts as not converging.

@@ -2,6 +2,13 @@
 //! [`Scene`], with every semantic check. Split by concern: files and
 //! includes, definitions, expressions, built-in calls, objects, transforms,
 //! motion, settings and assets.
+//!
+//! Errors: helpers return span-less `issue::Issue`s and the evaluator
+//! attaches the span of the syntax it is evaluating (`Evaluator::at`). A
+//! failure is reported once and travels up as `Fail`, so evaluation goes on
+//! and every error of a file is reported. Evaluation runs on a thread of its
+//! own with a 1 GiB stack (reserved, not touched), so the deepest recursion
+//! the limits allow cannot overflow it.
 
 mod assets;
 mod blame;
