@@ -24,14 +24,14 @@ pub struct PieceInfo {
     /// Pixel bounds `[x0, x1, y0, y1]` (half-open) of this piece.
     pub region: [u32; 4],
     pub seed: u64,
-    /// The sampler's name (`sobol`, `independent`); sidecars written before
-    /// there was a choice were rendered by the independent sampler.
+    /// The sampler's name (`sobol`, `independent`); a sidecar without the
+    /// field was rendered by the independent sampler.
     #[serde(default = "independent")]
     pub sampler: String,
     pub max_depth: u32,
     /// How lights are chosen (`tree`, `power`), or `none` when no light is
-    /// sampled (`--integrator path`); sidecars written before it was
-    /// recorded were rendered by the default, the tree.
+    /// sampled (`--integrator path`); a sidecar without the field was
+    /// rendered by the default, the tree.
     #[serde(default = "tree")]
     pub light_selection: String,
     /// The animation frame the scene was evaluated at.
