@@ -211,8 +211,9 @@ mergeid=$(sbatch --parsable --dependency=afterok:"$jobid" --job-name=rt-merge \
   --output=%x-%j.out "${small[@]}" \
   --wrap "\"$rt\" merge $OUT/t*-p*.exr --average -o $work/frame.exr")
 say "submitted array job $jobid (tasks 0-7) and merge job $mergeid"
-wait_jobs "$jobid" "$mergeid"
+wait_jobs "$jobid"
 check_completed "$jobid" 8
+wait_jobs "$mergeid"
 check_completed "$mergeid" 1
 say "log of task ${jobid}_0, rt-tiles-${jobid}_0.out:"
 sed 's/^/    /' "rt-tiles-${jobid}_0.out"
