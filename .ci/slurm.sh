@@ -39,31 +39,23 @@ PY
 done
 say "docs/distributed.md shows docs/farm/*.sbatch verbatim"
 
-tools=(munged mungekey slurmctld slurmd sbatch squeue scancel sinfo)
+skip() {
+  echo "slurm: $*" >&2
+  # In CI the recipe must run; elsewhere skipping is allowed.
+  [ -n "${CI:-}" ] && exit 1
+  exit 0
+}
+# slurmd must run as root to start the jobs.
+[ "$(id -u)" = 0 ] || skip "the test cluster needs root"
+tools=(munged mungekey slurmctld slurmd sbatch squeue scancel sinfo sacct)
 have_tools() {
   for t in "${tools[@]}"; do command -v "$t" >/dev/null || return 1; done
 }
 if ! have_tools; then
-  pkgs=(slurm-wlm munge)
-  apt=(env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${pkgs[@]}")
-  if [ "$(id -u)" = 0 ]; then
-    "${apt[@]}" >/dev/null || { apt-get update >/dev/null && "${apt[@]}" >/dev/null; }
-  elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
-    sudo "${apt[@]}" >/dev/null || { sudo apt-get update >/dev/null && sudo "${apt[@]}" >/dev/null; }
-  fi
+  apt=(env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends slurm-wlm munge)
+  "${apt[@]}" >/dev/null || { apt-get update >/dev/null && "${apt[@]}" >/dev/null; } || true
 fi
-if ! have_tools; then
-  echo "slurm: slurm-wlm and munge are not installed and cannot be installed here" >&2
-  # In CI the recipe must run; elsewhere skipping is allowed.
-  [ -n "${CI:-}" ] && exit 1
-  exit 0
-fi
-if [ "$(id -u)" != 0 ]; then
-  # slurmd must run as root to start jobs.
-  echo "slurm: the test cluster needs root" >&2
-  [ -n "${CI:-}" ] && exit 1
-  exit 0
-fi
+have_tools || skip "slurm-wlm and munge are not installed and cannot be installed here"
 cargo build --release --quiet
 rt="$repo/target/release/rtlang"
 scene="$repo/tests/dist_support/moving.rt"
