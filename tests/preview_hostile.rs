@@ -4,8 +4,9 @@
 //! another site is refused and control values are range-checked; idle
 //! connections and a burst of event streams neither grow the thread count
 //! nor keep a plain request waiting; `--bind 0.0.0.0` answers to the
-//! machine's own addresses; HEAD is answered; SIGTERM stops the preview
-//! within a second even while its scene's file blocks reading.
+//! machine's own addresses; HEAD is answered; a click on a scene of many
+//! placed copies does not copy them; SIGTERM stops the preview within a
+//! second even while its scene's file blocks reading.
 
 mod support;
 
@@ -377,6 +378,66 @@ fn head_is_answered_like_get_without_a_body() {
     let (status, headed) = exchange(server.addr, raw.as_bytes());
     assert_eq!(status, 405);
     assert!(headed.contains("Allow: POST"), "{headed}");
+}
+
+/// The first line of [`placed_copies`] that places a copy.
+const FIRST_PLACE: u64 = 6;
+
+/// 400 placements of one prototype of 4000 balls, on a grid facing the
+/// camera, one line each from line [`FIRST_PLACE`] on.
+fn placed_copies() -> String {
+    let mut scene = String::from(
+        "render { size 64 x 48  samples 4  depth 2  background rgb(0.7, 0.8, 1.0) }\n\
+         camera { from (0, 0, 30)  at (0, 0, 0)  up (0, 1, 0)  fov 60 }\n\
+         let m = lambertian(rgb(0.5, 0.5, 0.5))\n\
+         let cluster = group { repeat i in 0..4000 {\n\
+         sphere { center (i * 0.0001, 0, 0)  radius 0.4  material m } } }\n",
+    );
+    for y in -10..10 {
+        for x in -10..10 {
+            scene.push_str(&format!("place cluster {{ translate ({x}, {y}, 0) }}\n"));
+        }
+    }
+    scene
+}
+
+#[test]
+fn a_click_on_many_placed_copies_shares_their_prototype() {
+    let dir = scratch::folder("hostile-pick");
+    let scene = scratch::write(&dir, "scene.rt", &placed_copies());
+    let server = Server::start(&scene, &[]);
+    wait_rendered(&server);
+    let before = server.status_kb("VmHWM");
+    let (status, reply) = get(&server, "/pick?x=32&y=20");
+    assert_eq!(status, 200, "{reply}");
+    let body = reply.split("\r\n\r\n").nth(1).unwrap_or("");
+    let pick: serde_json::Value = serde_json::from_str(body).expect("pick JSON");
+    let after = server.status_kb("VmHWM");
+    eprintln!("server peak RSS: {before} kB before the first click, {after} kB after");
+    assert_eq!(pick["hit"], true, "{pick}");
+    // The copy named is the one whose balls the picked point lies on.
+    let line = pick["line"].as_u64().expect("a line");
+    assert_eq!(pick["object"].as_u64(), Some(line - FIRST_PLACE), "{pick}");
+    let placed: Vec<f64> = pick["excerpt"]
+        .as_str()
+        .and_then(|e| e.split('(').nth(1))
+        .map(|t| {
+            t.trim_end_matches([')', ' ', '}'])
+                .split(", ")
+                .flat_map(str::parse)
+                .collect()
+        })
+        .unwrap_or_default();
+    let point: Vec<f64> = (0..3)
+        .map(|c| pick["point"][c].as_f64().unwrap_or(f64::NAN))
+        .collect();
+    let (dx, dy) = (point[0] - placed[0], point[1] - placed[1]);
+    assert!((-0.41..=0.81).contains(&dx) && dy.abs() <= 0.41, "{pick}");
+    // A copy per placement (400 × 4000 balls) took more than 100 MB.
+    assert!(
+        after < before + 20 * 1024,
+        "the peak RSS grew from {before} kB to {after} kB"
+    );
 }
 
 #[test]

@@ -5,7 +5,7 @@
 
 mod assets;
 mod blame;
-mod budget;
+pub mod budget;
 mod builtins;
 mod convert;
 mod defs;
