@@ -1,6 +1,8 @@
 //! Follows edits: watches the folders of the scene, its includes and its
 //! assets with `notify`, and reloads the session when one of those files
 //! changes, after a short debounce (an editor's save is several events).
+//! The thread also runs the first evaluation, so that a scene slow to read
+//! holds neither the server nor the stop.
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
