@@ -90,7 +90,6 @@ impl Preview {
         threads.push(spawn(
             "preview-watch",
             Box::new(move || {
-                s.reload();
                 if let Err(e) = watch::watch(s) {
                     eprintln!("warning: not following edits: {e}");
                 }
