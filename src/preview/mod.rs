@@ -35,7 +35,7 @@ const QUEUE: usize = 64;
 /// How long [`Preview::stop`] waits for its threads: one stuck in reading
 /// a scene (or writing to a client that does not read) is left behind
 /// rather than holding the process.
-const STOP_WAIT: Duration = Duration::from_millis(500);
+const STOP_WAIT: Duration = Duration::from_millis(300);
 
 /// What to preview and where to serve it.
 pub struct Config {
