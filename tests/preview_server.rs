@@ -108,6 +108,7 @@ fn start(dir: &Path, text: &str) -> Preview {
         options: Options::default(),
         bind: "127.0.0.1".parse().expect("an address"),
         port: 0,
+        allow_hosts: Vec::new(),
     })
     .expect("the preview starts")
 }

@@ -1,4 +1,5 @@
-//! `rtlang preview SCENE [--port N] [--open]`: starts the live preview
+//! `rtlang preview SCENE [--port N] [--bind ADDR] [--allow-host NAME]
+//! [--open]`: starts the live preview
 //! server, prints its URL and serves until Ctrl-C. The work is in
 //! `rtlang::preview`.
 
@@ -22,9 +23,15 @@ pub struct PreviewArgs {
     #[arg(long, default_value_t = 8300)]
     port: u16,
     /// Address to listen on. Anything but a loopback address exposes the
-    /// scene's render to the network (a warning is printed).
+    /// scene's render to the network (a warning is printed). With 0.0.0.0
+    /// or ::, every address of this machine is accepted in `Host`.
     #[arg(long, default_value = "127.0.0.1")]
     bind: IpAddr,
+    /// Another name the page may be reached by, such as the machine's
+    /// network name (`NAME` or `NAME:PORT`, repeatable). Requests naming
+    /// any other host are refused, against DNS rebinding.
+    #[arg(long = "allow-host", value_name = "NAME")]
+    allow_host: Vec<String>,
     /// Open the page in the default browser.
     #[arg(long)]
     open: bool,
@@ -56,6 +63,7 @@ pub fn run(args: PreviewArgs) -> ExitCode {
         },
         bind: args.bind,
         port: args.port,
+        allow_hosts: args.allow_host,
     };
     let preview = match Preview::start(config) {
         Ok(p) => p,

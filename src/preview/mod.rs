@@ -1,11 +1,17 @@
 //! `rtlang preview`: a local web page that shows a scene rendering
 //! progressively, follows edits of its files, shows diagnostics in place and
 //! tells what is under a clicked pixel. Split by job: the session state and
-//! render loop, the file watcher, picking, the HTTP server, the page.
+//! render loop, the file watcher, picking, the connections (`listen`), the
+//! request framing (`http`), who may ask (`guard`), the routes (`server`),
+//! the event streams, the page.
 //!
 //! This layer sits above `lang` and `render` (like the CLI): it is the one
 //! place that holds both a scene's spans and its rendered film.
 
+mod events;
+mod guard;
+mod http;
+mod listen;
 mod page;
 pub mod pick;
 pub mod server;
@@ -14,14 +20,22 @@ mod watch;
 
 use std::net::{IpAddr, SocketAddr};
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
+pub use events::MAX_STREAMS;
+pub use listen::{HEAD_TIMEOUT, MAX_CONNECTIONS};
 pub use session::{Controls, Session};
 
-/// How often the accept loop looks at the shutdown flag.
-const POLL: Duration = Duration::from_millis(100);
+/// Threads answering requests read whole.
+pub const WORKERS: usize = 4;
+/// Requests read whole and waiting for a worker at most (past it: 503).
+const QUEUE: usize = 64;
+/// How long [`Preview::stop`] waits for its threads: one stuck in reading
+/// a scene (or writing to a client that does not read) is left behind
+/// rather than holding the process.
+const STOP_WAIT: Duration = Duration::from_millis(300);
 
 /// What to preview and where to serve it.
 pub struct Config {
@@ -30,6 +44,9 @@ pub struct Config {
     pub bind: IpAddr,
     /// 0 picks a free port.
     pub port: u16,
+    /// More names the server answers to in `Host` (`name` or `name:port`),
+    /// besides its own addresses.
+    pub allow_hosts: Vec<String>,
 }
 
 /// Why the preview could not start.
@@ -49,19 +66,17 @@ pub struct Preview {
 }
 
 impl Preview {
-    /// Evaluates the scene once, then serves it until [`Preview::stop`].
+    /// Serves the scene until [`Preview::stop`]; it is evaluated on the
+    /// watch thread, so that a slow scene does not hold the server.
     pub fn start(config: Config) -> Result<Preview, PreviewError> {
         let wanted = SocketAddr::new(config.bind, config.port);
-        let server = tiny_http::Server::http(wanted).map_err(|e| PreviewError::Bind {
+        let bind_error = |e: std::io::Error| PreviewError::Bind {
             addr: wanted,
             message: e.to_string(),
-        })?;
-        let addr = server.server_addr().to_ip().ok_or(PreviewError::Bind {
-            addr: wanted,
-            message: "not an IP socket".into(),
-        })?;
+        };
+        let listener = mio::net::TcpListener::bind(wanted).map_err(bind_error)?;
+        let addr = listener.local_addr().map_err(bind_error)?;
         let session = Arc::new(Session::new(&config.scene, config.options));
-        session.reload();
         let spawn = |name: &str, f: Box<dyn FnOnce() + Send>| {
             std::thread::Builder::new()
                 .name(name.into())
@@ -80,11 +95,33 @@ impl Preview {
                 }
             }),
         )?);
+        let (jobs, queue) = std::sync::mpsc::sync_channel(QUEUE);
+        let queue = Arc::new(Mutex::new(queue));
+        let guard = Arc::new(guard::Guard::new(addr, &config.allow_hosts));
+        let streams = Arc::new(events::Streams::default());
+        for _ in 0..WORKERS {
+            let (s, queue, guard, streams) = (
+                session.clone(),
+                queue.clone(),
+                guard.clone(),
+                streams.clone(),
+            );
+            threads.push(spawn(
+                "preview-worker",
+                Box::new(move || loop {
+                    // The lock is held only while waiting for the next job.
+                    let job = queue.lock().unwrap_or_else(|e| e.into_inner()).recv();
+                    match job {
+                        Ok(job) => server::answer(job, &s, &guard, &streams),
+                        Err(_) => return,
+                    }
+                }),
+            )?);
+        }
         let s = session.clone();
-        let allowed = server::allowed_hosts(addr);
         threads.push(spawn(
             "preview-http",
-            Box::new(move || accept(&server, &s, &allowed)),
+            Box::new(move || listen::run(listener, &s, jobs)),
         )?);
         Ok(Preview {
             addr,
@@ -107,32 +144,19 @@ impl Preview {
         &self.session
     }
 
-    /// Cancels the render, ends event streams and joins every thread.
+    /// Cancels the render, ends event streams and joins every thread that
+    /// ends within [`STOP_WAIT`]; the others are left to end with the
+    /// process (one may be blocked reading a scene's file).
     pub fn stop(self) {
         self.session.shut_down();
-        for t in self.threads {
-            let _ = t.join();
+        let deadline = Instant::now() + STOP_WAIT;
+        while Instant::now() < deadline && !self.threads.iter().all(|t| t.is_finished()) {
+            std::thread::sleep(Duration::from_millis(10));
         }
-    }
-}
-
-/// Hands each request to a thread of its own until shutdown.
-fn accept(server: &tiny_http::Server, session: &Arc<Session>, allowed: &[String]) {
-    while !session.is_shut_down() {
-        let request = match server.recv_timeout(POLL) {
-            Ok(Some(r)) => r,
-            Ok(None) => continue,
-            Err(e) => {
-                eprintln!("warning: preview server: {e}");
-                continue;
+        for t in self.threads {
+            if t.is_finished() {
+                let _ = t.join();
             }
-        };
-        let (s, allowed) = (session.clone(), allowed.to_vec());
-        let spawned = std::thread::Builder::new()
-            .name("preview-request".into())
-            .spawn(move || server::handle(request, &s, &allowed));
-        if let Err(e) = spawned {
-            eprintln!("warning: dropped a request: {e}");
         }
     }
 }

@@ -1,68 +1,85 @@
-//! The preview's HTTP server on `tiny_http`: a fixed table of routes (the
-//! page, its script and style, the status as JSON and as Server-Sent
-//! Events, the image, the pick, the controls) behind a `Host` check against
-//! DNS rebinding. It never serves a file from disk by name.
+//! The preview's routes: a fixed table (the page, its script and style, the
+//! status as JSON and as Server-Sent Events, the image, the pick, the
+//! controls) behind the [`Guard`]. It never serves a file from disk by name.
 //!
-//! Why `tiny_http`: a maintained, small, thread-per-request server with no
-//! async runtime, so it adds seconds, not minutes, to a 2-core build; the one
-//! long-lived response (the event stream) is written by hand as HTTP/1.1
-//! chunks, since tiny_http's own chunked encoder buffers 8 KiB before it
-//! sends anything.
+//! Why no server crate: tiny_http, used before, reads a request's headers
+//! without a bound (a 300 MB header took 650 MB) and spends a thread on
+//! every open connection; the async servers need a runtime that would add
+//! minutes to a 2-core build. What is left by hand is small: `httparse`
+//! frames requests, `mio` waits on sockets (`listen.rs`), and each answer
+//! is one whole response on a connection that is then closed.
 
-use std::io::{Cursor, Read, Write};
-use std::net::SocketAddr;
-use std::time::Duration;
+use std::io::Cursor;
+use std::net::{Shutdown, TcpStream};
+use std::sync::Arc;
 
 use glam::Vec3;
 use image::ImageEncoder;
-use tiny_http::{Header, Method, Request, Response};
 
+use super::events::{self, Streams};
+use super::guard::Guard;
+use super::http::{Request, Response};
+use super::listen::Job;
 use super::page;
 use super::session::{Controls, Session};
 use crate::render::output::linear_to_srgb8;
 
-/// How long an idle event stream waits before a keep-alive comment.
-const KEEP_ALIVE: Duration = Duration::from_secs(15);
+/// The largest samples-per-pixel cap the page may set: a preview past it
+/// is a final render, for `rtlang render`.
+pub const MAX_SPP_CAP: u32 = 1 << 16;
 
-/// The `Host` values a request may carry: the address served, and
-/// `localhost` with the port when that address is a loopback one.
-pub fn allowed_hosts(addr: SocketAddr) -> Vec<String> {
-    let mut hosts = vec![addr.to_string()];
-    if addr.ip().is_loopback() {
-        hosts.push(format!("localhost:{}", addr.port()));
-    }
-    hosts
+/// What a request is answered with.
+enum Reply {
+    Whole(Response),
+    /// The event stream, written on a thread of its own.
+    Events,
 }
 
-/// Whether a request's `Host` header names the server itself.
-pub fn host_allowed(host: Option<&str>, allowed: &[String]) -> bool {
-    host.is_some_and(|h| allowed.iter().any(|a| a.eq_ignore_ascii_case(h.trim())))
+/// Answers one request read whole, then closes its connection.
+pub fn answer(job: Job, session: &Arc<Session>, guard: &Guard, streams: &Streams) {
+    let Job {
+        mut stream,
+        request,
+    } = job;
+    let head_only = request.method == "HEAD";
+    let response = match route(&request, session, guard) {
+        Reply::Whole(r) => r,
+        Reply::Events if head_only => return events::head(&mut stream),
+        Reply::Events => match streams.start(stream, session.clone()) {
+            Ok(()) => return,
+            Err(back) => {
+                stream = back;
+                Response::text(503, "too many event streams")
+            }
+        },
+    };
+    // A client that went away is not an error of the server.
+    let _ = response.write(&mut stream, head_only);
+    close(stream);
 }
 
-/// Answers one request.
-pub fn handle(request: Request, session: &Session, allowed: &[String]) {
-    let host = request
-        .headers()
-        .iter()
-        .find(|h| h.field.equiv("Host"))
-        .map(|h| h.value.as_str().to_string());
-    if !host_allowed(host.as_deref(), allowed) {
-        respond(request, text(403, "forbidden: unexpected Host header"));
-        return;
-    }
-    let url = request.url().to_string();
-    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
-    let method = request.method().clone();
-    let response = match (&method, path) {
-        (Method::Get, "/") => asset(page::INDEX, "text/html; charset=utf-8"),
-        (Method::Get, "/app.js") => asset(page::SCRIPT, "text/javascript; charset=utf-8"),
-        (Method::Get, "/style.css") => asset(page::STYLE, "text/css; charset=utf-8"),
-        (Method::Get, "/status") => json_response(&session.status()),
-        (Method::Get, "/events") => {
-            events(request, session);
-            return;
-        }
-        (Method::Get, "/image.png") => {
+fn close(stream: TcpStream) {
+    let _ = stream.shutdown(Shutdown::Write);
+}
+
+/// The answer to `request`.
+fn route(request: &Request, session: &Session, guard: &Guard) -> Reply {
+    let host = request.header("Host");
+    let Some(host) = host.filter(|_| guard.host_allowed(host)) else {
+        return Reply::Whole(text(403, "forbidden: unexpected Host header"));
+    };
+    let (path, query) = request
+        .target
+        .split_once('?')
+        .unwrap_or((&request.target, ""));
+    let read = matches!(request.method.as_str(), "GET" | "HEAD");
+    let response = match (read, request.method.as_str(), path) {
+        (true, _, "/") => asset(page::INDEX, "text/html; charset=utf-8"),
+        (true, _, "/app.js") => asset(page::SCRIPT, "text/javascript; charset=utf-8"),
+        (true, _, "/style.css") => asset(page::STYLE, "text/css; charset=utf-8"),
+        (true, _, "/status") => json_response(&session.status()),
+        (true, _, "/events") => return Reply::Events,
+        (true, _, "/image.png") => {
             let exposure = param(query, "exposure")
                 .and_then(|v| v.parse::<f32>().ok())
                 .filter(|e| e.is_finite())
@@ -70,9 +87,9 @@ pub fn handle(request: Request, session: &Session, allowed: &[String]) {
                 .clamp(-20.0, 20.0);
             image_png(session, exposure, None)
         }
-        (Method::Get, "/save.png") => image_png(session, 0.0, Some("preview.png")),
-        (Method::Get, "/save.exr") => image_exr(session),
-        (Method::Get, "/pick") => {
+        (true, _, "/save.png") => image_png(session, 0.0, Some("preview.png")),
+        (true, _, "/save.exr") => image_exr(session),
+        (true, _, "/pick") => {
             let at = |k| param(query, k).and_then(|v| v.parse::<u32>().ok());
             match (at("x"), at("y")) {
                 (Some(x), Some(y)) => match session.pick(x, y) {
@@ -82,86 +99,65 @@ pub fn handle(request: Request, session: &Session, allowed: &[String]) {
                 _ => text(400, "expected ?x=X&y=Y"),
             }
         }
-        (Method::Post, "/controls") => {
-            let mut request = request;
-            let mut body = String::new();
-            let read = request.as_reader().take(4096).read_to_string(&mut body);
-            let response = match (read, parse_controls(&body)) {
-                (Ok(_), Some(c)) => {
+        (_, "POST", "/controls") => {
+            if !Guard::post_allowed(
+                host,
+                request.header("Origin"),
+                request.header("Sec-Fetch-Site"),
+            ) {
+                return Reply::Whole(text(403, "forbidden: a request from another site"));
+            }
+            match std::str::from_utf8(&request.body)
+                .ok()
+                .and_then(parse_controls)
+            {
+                Some(c) => {
                     session.set_controls(c);
                     json_response(&session.status())
                 }
-                _ => text(
+                None => text(
                     400,
-                    "expected integrator=nee|path&spp=N (N empty for the scene's)",
+                    &format!(
+                        "expected integrator=nee|path&spp=N \
+                         (1 ≤ N ≤ {MAX_SPP_CAP}, empty for the scene's)"
+                    ),
                 ),
-            };
-            respond(request, response);
-            return;
+            }
         }
-        (_, "/" | "/app.js" | "/style.css" | "/status" | "/events" | "/image.png")
-        | (_, "/save.png" | "/save.exr" | "/pick" | "/controls") => text(405, "method not allowed"),
+        (_, _, "/controls") => text(405, "method not allowed").with("Allow", "POST".into()),
+        (_, _, "/" | "/app.js" | "/style.css" | "/status" | "/events" | "/image.png")
+        | (_, _, "/save.png" | "/save.exr" | "/pick") => {
+            text(405, "method not allowed").with("Allow", "GET, HEAD".into())
+        }
         _ => text(404, "not found"),
     };
-    respond(request, response);
+    Reply::Whole(response)
 }
 
-type Body = Response<Cursor<Vec<u8>>>;
-
-fn respond(request: Request, response: Body) {
-    // A client that went away is not an error of the server.
-    let _ = request.respond(response);
+fn text(status: u16, message: &str) -> Response {
+    Response::text(status, message)
 }
 
-fn header(name: &str, value: &str) -> Option<Header> {
-    Header::from_bytes(name.as_bytes(), value.as_bytes()).ok()
+fn asset(body: &str, content_type: &str) -> Response {
+    Response::new(200, content_type, body.as_bytes().to_vec())
 }
 
-fn with_type(body: Vec<u8>, status: u16, content_type: &str) -> Body {
-    let mut r = Response::from_data(body).with_status_code(status);
-    for h in [
-        header("Content-Type", content_type),
-        header("Cache-Control", "no-store"),
-        header("X-Content-Type-Options", "nosniff"),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        r.add_header(h);
-    }
-    r
+fn json_response(value: &serde_json::Value) -> Response {
+    Response::new(200, "application/json", value.to_string().into_bytes())
 }
 
-fn text(status: u16, message: &str) -> Body {
-    with_type(
-        format!("{message}\n").into_bytes(),
-        status,
-        "text/plain; charset=utf-8",
-    )
-}
-
-fn asset(body: &str, content_type: &str) -> Body {
-    with_type(body.as_bytes().to_vec(), 200, content_type)
-}
-
-fn json_response(value: &serde_json::Value) -> Body {
-    with_type(value.to_string().into_bytes(), 200, "application/json")
-}
-
-fn attachment(mut r: Body, name: Option<&str>) -> Body {
-    if let Some(h) = name.and_then(|n| {
-        header(
+fn attachment(r: Response, name: Option<&str>) -> Response {
+    match name {
+        Some(n) => r.with(
             "Content-Disposition",
-            &format!("attachment; filename=\"{n}\""),
-        )
-    }) {
-        r.add_header(h);
+            format!("attachment; filename=\"{n}\""),
+        ),
+        None => r,
     }
-    r
 }
 
 /// The current image as 8-bit sRGB PNG, scaled by `2^exposure`.
-fn image_png(session: &Session, exposure: f32, download: Option<&str>) -> Body {
+fn image_png(session: &Session, exposure: f32, download: Option<&str>) -> Response {
     let Some((w, h, pixels)) = session.image() else {
         return text(404, "no image yet");
     };
@@ -173,13 +169,13 @@ fn image_png(session: &Session, exposure: f32, download: Option<&str>) -> Body {
     let mut out = Vec::new();
     let encoder = image::codecs::png::PngEncoder::new(&mut out);
     match encoder.write_image(&bytes, w, h, image::ExtendedColorType::Rgb8) {
-        Ok(()) => attachment(with_type(out, 200, "image/png"), download),
+        Ok(()) => attachment(Response::new(200, "image/png", out), download),
         Err(e) => text(500, &format!("cannot encode the image: {e}")),
     }
 }
 
 /// The current image as linear 32-bit float OpenEXR.
-fn image_exr(session: &Session) -> Body {
+fn image_exr(session: &Session) -> Response {
     let Some((w, h, pixels)) = session.image() else {
         return text(404, "no image yet");
     };
@@ -189,43 +185,10 @@ fn image_exr(session: &Session) -> Body {
     let encoder = image::codecs::openexr::OpenExrEncoder::new(&mut out);
     match encoder.write_image(&bytes, w, h, image::ExtendedColorType::Rgb32F) {
         Ok(()) => attachment(
-            with_type(out.into_inner(), 200, "image/x-exr"),
+            Response::new(200, "image/x-exr", out.into_inner()),
             Some("preview.exr"),
         ),
         Err(e) => text(500, &format!("cannot encode the image: {e}")),
-    }
-}
-
-/// Streams the status as Server-Sent Events, one per change, until the
-/// client leaves or the session shuts down.
-fn events(request: Request, session: &Session) {
-    let mut out = request.into_writer();
-    let head = "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-store\r\n\
-                X-Content-Type-Options: nosniff\r\nTransfer-Encoding: chunked\r\n\r\n";
-    if out.write_all(head.as_bytes()).is_err() {
-        return;
-    }
-    let mut seen = u64::MAX;
-    loop {
-        if session.is_shut_down() {
-            let _ = out.write_all(b"0\r\n\r\n").and_then(|()| out.flush());
-            return;
-        }
-        let version = session.wait_change(seen, KEEP_ALIVE);
-        let event = if version == seen {
-            ": keep-alive\n\n".to_string()
-        } else {
-            seen = version;
-            format!("data: {}\n\n", session.status())
-        };
-        let chunk = format!("{:x}\r\n{event}\r\n", event.len());
-        if out
-            .write_all(chunk.as_bytes())
-            .and_then(|()| out.flush())
-            .is_err()
-        {
-            return;
-        }
     }
 }
 
@@ -248,7 +211,11 @@ fn parse_controls(body: &str) -> Option<Controls> {
     };
     let spp_cap = match param(body.trim(), "spp").unwrap_or("") {
         "" => None,
-        n => Some(n.parse::<u32>().ok().filter(|&n| n > 0)?),
+        n => Some(
+            n.parse::<u32>()
+                .ok()
+                .filter(|n| (1..=MAX_SPP_CAP).contains(n))?,
+        ),
     };
     Some(Controls { nee, spp_cap })
 }
@@ -256,19 +223,6 @@ fn parse_controls(body: &str) -> Option<Controls> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn only_the_served_loopback_address_is_a_host() {
-        let allowed = allowed_hosts("127.0.0.1:8123".parse().expect("an address"));
-        assert!(host_allowed(Some("127.0.0.1:8123"), &allowed));
-        assert!(host_allowed(Some("LOCALHOST:8123"), &allowed));
-        assert!(!host_allowed(Some("127.0.0.1:8124"), &allowed));
-        assert!(!host_allowed(Some("evil.example:8123"), &allowed));
-        assert!(!host_allowed(Some("127.0.0.1"), &allowed));
-        assert!(!host_allowed(None, &allowed));
-        let lan = allowed_hosts("192.168.1.5:80".parse().expect("an address"));
-        assert_eq!(lan, vec!["192.168.1.5:80".to_string()]);
-    }
 
     #[test]
     fn controls_parse_and_reject() {
@@ -290,5 +244,8 @@ mod tests {
         assert_eq!(parse_controls("integrator=bdpt&spp=1"), None);
         assert_eq!(parse_controls("integrator=nee&spp=0"), None);
         assert_eq!(parse_controls("integrator=nee&spp=x"), None);
+        assert_eq!(parse_controls("integrator=nee&spp=4294967295"), None);
+        assert_eq!(parse_controls("integrator=nee&spp=65537"), None);
+        assert!(parse_controls("integrator=nee&spp=65536").is_some());
     }
 }

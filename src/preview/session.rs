@@ -47,7 +47,8 @@ struct Good {
     geometry_key: u64,
     objects: Vec<Span>,
     sources: SourceMap,
-    pick: OnceLock<Option<PickWorld>>,
+    /// The picking world, or why there is none.
+    pick: OnceLock<Result<PickWorld, String>>,
 }
 
 /// The film of the current job and how fast it grew.
@@ -392,10 +393,18 @@ impl Session {
         });
         let frame = good.world.origin();
         let ray = probe::first_ray(&good.scene, &options, x, y, frame);
-        let picker = good
-            .pick
-            .get_or_init(|| PickWorld::build(&good.scene, frame).ok());
-        let Some((index, tagged)) = picker.as_ref().and_then(|p| p.pick(&ray)) else {
+        let picker = good.pick.get_or_init(|| {
+            PickWorld::build(&good.scene, frame, self.options.memory_budget)
+                .map_err(|e| e.to_string())
+        });
+        let picker = match picker {
+            Ok(p) => p,
+            Err(why) => {
+                out["pick_error"] = json!(why);
+                return Some(out);
+            }
+        };
+        let Some((index, tagged)) = picker.pick(&ray) else {
             return Some(out);
         };
         let hit = good

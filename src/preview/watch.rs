@@ -1,6 +1,8 @@
 //! Follows edits: watches the folders of the scene, its includes and its
 //! assets with `notify`, and reloads the session when one of those files
 //! changes, after a short debounce (an editor's save is several events).
+//! The thread also runs the first evaluation, so that a scene slow to read
+//! holds neither the server nor the stop.
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -18,9 +20,11 @@ const DEBOUNCE: Duration = Duration::from_millis(30);
 /// How often the loop looks at the shutdown flag.
 const POLL: Duration = Duration::from_millis(100);
 
-/// Watches until the session shuts down; run on its own thread. Returns an
-/// error when the platform's watcher cannot start.
+/// Evaluates the scene, then watches until the session shuts down; run on
+/// its own thread. Returns an error when the platform's watcher cannot
+/// start.
 pub fn watch(session: Arc<Session>) -> notify::Result<()> {
+    session.reload();
     let (tx, rx) = channel();
     let mut watcher = notify::recommended_watcher(tx)?;
     let mut folders = BTreeSet::new();

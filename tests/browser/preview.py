@@ -7,7 +7,8 @@ Starts a preview of a copy of tests/scenes/preview.rt on a free port and
 checks, in the page: the picture is not blank (a real screenshot, decoded
 here); editing the scene changes it; breaking the scene puts the diagnostic
 in the DOM and dims the picture; fixing it removes the diagnostic; clicking
-the ball reports a sphere defined on line 19 and shows its source. Exits
+the ball reports a sphere defined on line 19 and shows its source; setting
+the spp cap in the page (a same-origin POST) is applied. Exits
 non-zero on the first failed check. With SCREENSHOT, saves the window after
 the scene is broken (the README's picture).
 """
@@ -195,6 +196,15 @@ def main():
         wait.until(lambda d: not d.find_elements(By.CSS_SELECTOR, "#diagnostics .diagnostic"))
         check("stale" not in (img.get_attribute("class") or ""), "fixing the scene clears the diagnostic")
         wait.until(finished)
+
+        # The page's own POST (same origin) passes the server's cross-site check.
+        driver.execute_script(
+            "const spp = document.getElementById('spp'); spp.value = '8';"
+            "spp.dispatchEvent(new Event('change'));"
+        )
+        wait.until(lambda d: d.execute_script("return status.controls.spp_cap") == 8)
+        wait.until(finished)
+        check(driver.execute_script("return status.target_spp") == 8, "the page's spp cap is applied")
     finally:
         if driver is not None:
             driver.quit()

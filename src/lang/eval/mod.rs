@@ -12,7 +12,7 @@
 
 mod assets;
 mod blame;
-mod budget;
+pub mod budget;
 mod builtins;
 mod convert;
 mod defs;

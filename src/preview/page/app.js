@@ -105,7 +105,7 @@ function showPick(p) {
   } else {
     box.dataset.kind = "";
     box.dataset.line = "";
-    row("object", "nothing (background)");
+    row("object", p.pick_error ?? "nothing (background)");
   }
   const se = p.std_error.map((v) => (v === null ? "?" : Number(v).toPrecision(2)));
   row("estimate", `${vec(p.estimate)} ± (${se.join(", ")}) from ${p.samples} samples`);
