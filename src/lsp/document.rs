@@ -10,8 +10,9 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use crate::lang::ast::File;
 use crate::lang::cache::AssetCache;
-use crate::lang::{self, syntax, Options, Outcome};
+use crate::lang::{self, scan, syntax, Options, Outcome};
 
 use super::index::{Def, Index};
 
@@ -23,6 +24,46 @@ pub struct Included {
     pub path: PathBuf,
     pub text: Arc<str>,
     pub index: Index,
+}
+
+/// How many items holding syntax errors are blanked before giving up on
+/// the rest of the text (each costs a parse).
+const MAX_BLANKED: usize = 4;
+
+/// The syntax tree of `text`, and whether it parsed whole. When it did
+/// not, the items holding the first syntax errors are blanked (offsets
+/// kept) and the rest parsed again, so the names defined around the item
+/// being typed are still known: an unclosed `{` would otherwise leave no
+/// tree at all.
+fn parse_around_errors(text: &str) -> (File, bool) {
+    let mut parsed = syntax::parse_all(text, 0);
+    if parsed.syntax_errors.is_empty() {
+        return (parsed.file, true);
+    }
+    let mut blanked = text.to_string();
+    for _ in 0..MAX_BLANKED {
+        let Some(at) = parsed.syntax_errors.iter().find_map(|d| d.span) else {
+            break;
+        };
+        let at = (at.start as usize).min(blanked.len());
+        let start = scan::item_start(&blanked, at);
+        let end = scan::next_item(&blanked, at).unwrap_or(blanked.len());
+        // Byte for byte, so offsets stay; whole lines are replaced, so
+        // only whole characters are.
+        let spaces: String = blanked.as_bytes()[start..end]
+            .iter()
+            .map(|&b| if b == b'\n' { '\n' } else { ' ' })
+            .collect();
+        if spaces == blanked[start..end] {
+            break;
+        }
+        blanked.replace_range(start..end, &spaces);
+        parsed = syntax::parse_all(&blanked, 0);
+        if parsed.syntax_errors.is_empty() {
+            break;
+        }
+    }
+    (parsed.file, false)
 }
 
 /// An open document.
@@ -80,9 +121,9 @@ impl Document {
             return;
         }
         self.stale_index = false;
-        let parsed = syntax::parse_all(&self.text, 0);
-        let index = Index::new(&parsed.file);
-        if parsed.syntax_errors.is_empty() {
+        let (file, whole) = parse_around_errors(&self.text);
+        let index = Index::new(&file);
+        if whole {
             self.recalled.clear();
         } else {
             // What the last good text defined and this one does not, kept
