@@ -246,16 +246,21 @@ fn labels(client: &mut Client, uri: &str, line: u32, character: u32) -> Vec<Stri
         .collect()
 }
 
-#[test]
-fn completion_offers_names_while_the_text_does_not_parse() {
-    let dir = support::scratch::folder("lsp-complete-broken");
+/// A server with `text` open as `a.rt` in a fresh folder (kept alive by
+/// the returned value).
+fn opened(text: &str) -> (support::scratch::Folder, String, Client) {
+    let dir = support::scratch::folder("lsp-complete");
     let uri = uri_of(&support::scratch::write(&dir, "a.rt", "let r = 1\n"));
     let mut client = Client::initialized();
+    client.open(&uri, text);
+    (dir, uri, client)
+}
+
+#[test]
+fn completion_offers_names_while_the_text_does_not_parse() {
     // Opened in the middle of typing: the sphere is not closed.
-    client.open(
-        &uri,
-        "let size_a = 2\nlet glass = dielectric(1.5)\nsphere {\n  radius si",
-    );
+    let (_dir, uri, mut client) =
+        opened("let size_a = 2\nlet glass = dielectric(1.5)\nsphere {\n  radius si");
     let found = labels(&mut client, &uri, 3, 11);
     for want in ["size_a", "glass"] {
         assert!(found.iter().any(|l| l == want), "{want} missing: {found:?}");
@@ -279,13 +284,8 @@ fn completion_offers_names_while_the_text_does_not_parse() {
 
 #[test]
 fn completion_after_a_property_offers_values_not_properties() {
-    let dir = support::scratch::folder("lsp-complete-value");
-    let uri = uri_of(&support::scratch::write(&dir, "a.rt", "let r = 1\n"));
-    let mut client = Client::initialized();
-    client.open(
-        &uri,
-        "let glass = dielectric(1.5)\nsphere {\n  radius 1\n  material \n}\n",
-    );
+    let (_dir, uri, mut client) =
+        opened("let glass = dielectric(1.5)\nsphere {\n  radius 1\n  material \n}\nsphere { radius 2 material  }\n");
     let found = labels(&mut client, &uri, 3, 11);
     for want in ["glass", "lambertian", "checker", "pi", "true"] {
         assert!(found.iter().any(|l| l == want), "{want} missing: {found:?}");
@@ -296,6 +296,9 @@ fn completion_after_a_property_offers_values_not_properties() {
             "{unwanted} in {found:?}"
         );
     }
+    // After a value on one line, the next property's value.
+    let found = labels(&mut client, &uri, 5, 27);
+    assert!(found.iter().any(|l| l == "glass") && !found.iter().any(|l| l == "radius"));
     // A new line in the block still offers its properties.
     let found = labels(&mut client, &uri, 2, 0);
     assert!(found.iter().any(|l| l == "center"), "{found:?}");

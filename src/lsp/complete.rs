@@ -72,23 +72,32 @@ pub fn complete(doc: &Document, at: usize) -> Vec<CompletionItem> {
 }
 
 /// Whether byte `at` is where a property's value goes: after a property
-/// of `block` that begins its line, and the partial word being typed.
+/// name of `block` (and the partial word being typed) that is not itself
+/// the value of a property before it.
 fn after_property(text: &str, at: usize, block: &str) -> bool {
     let at = at.min(text.len());
     let start = word_at(text, at).map_or(at, |(start, _)| start.min(at));
-    let before = text[..start].trim_end_matches([' ', '\t']);
-    if before.len() == start {
-        // No space between the property and the cursor.
-        return false;
-    }
-    let Some((name_start, name_end)) = word_at(text, before.len()) else {
+    let Some((name_start, name_end)) = word_before(text, start) else {
         return false;
     };
-    let line_start = text[..name_start].rfind('\n').map_or(0, |i| i + 1);
-    let lead = text[line_start..name_start].trim_matches([' ', '\t', '{', ';']);
-    lead.is_empty()
-        && reference::lookup(&text[name_start..name_end])
-            .any(|e| e.kind == "property" && e.valid_in(block))
+    // `material glass ` is after a value, `radius 1 material ` is not.
+    is_property(&text[name_start..name_end], block)
+        && word_before(text, name_start).is_none_or(|(s, e)| !is_property(&text[s..e], block))
+}
+
+/// The word (`start`, `end`) that ends where the spaces before `at` begin
+/// (on the same line; none if no space comes before `at`).
+fn word_before(text: &str, at: usize) -> Option<(usize, usize)> {
+    let before = text[..at].trim_end_matches([' ', '\t']);
+    if before.len() == at {
+        // No space between that word and `at`.
+        return None;
+    }
+    word_at(text, before.len())
+}
+
+fn is_property(word: &str, block: &str) -> bool {
+    reference::lookup(word).any(|e| e.kind == "property" && e.valid_in(block))
 }
 
 /// What may begin a value: the names in scope, the predefined ones,

@@ -90,6 +90,7 @@ pub fn read_frame(input: &mut impl BufRead) -> io::Result<Option<Result<Message,
         }
         if !line.ends_with(b"\n") {
             bad_header = Some("a header line is longer than 4096 bytes".to_string());
+            started = true;
             skip_line(input)?;
             continue;
         }
@@ -116,8 +117,15 @@ pub fn read_frame(input: &mut impl BufRead) -> io::Result<Option<Result<Message,
     }
     let length = match (length, bad_header) {
         (Some(Ok(n)), None) => n,
+        // The body a valid length announces is skipped with the frame.
+        (Some(Ok(n)), Some(bad)) => {
+            return Ok(Some(Err(Rejected {
+                skip: n,
+                ..Rejected::parse(bad)
+            })));
+        }
         (Some(Err(rejected)), _) => return Ok(Some(Err(rejected))),
-        (_, Some(bad)) => return Ok(Some(Err(Rejected::parse(bad)))),
+        (None, Some(bad)) => return Ok(Some(Err(Rejected::parse(bad)))),
         (None, None) => {
             return Ok(Some(Err(Rejected::parse(
                 "the frame has no `Content-Length` header",
@@ -254,7 +262,7 @@ mod tests {
         );
         let mut input = frame(b"{");
         input.extend(b"Content-Length: x\r\n\r\n");
-        input.extend(b"no colon here\r\n\r\n");
+        input.extend(b"no colon here\r\nContent-Length: 2\r\n\r\n{}");
         input.extend(frame(good));
         assert_eq!(
             read(&input),
