@@ -23,6 +23,7 @@ const MAX_RELATED: usize = 20;
 /// `main` (file 0) is always present, so fixing the last error clears the
 /// editor's list.
 pub fn publish(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<PublishDiagnosticsParams> {
+    let ranges = &mut Ranges::new(&outcome.sources);
     let mut by_file: BTreeMap<u32, Vec<lsp_types::Diagnostic>> = BTreeMap::new();
     by_file.insert(0, Vec::new());
     for d in &outcome.diagnostics {
@@ -32,7 +33,7 @@ pub fn publish(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<PublishDiag
             .iter()
             .filter_map(|(s, label)| {
                 Some(DiagnosticRelatedInformation {
-                    location: location(main, &outcome.sources, *s)?,
+                    location: location(main, ranges, *s)?,
                     message: label.clone(),
                 })
             })
@@ -45,7 +46,7 @@ pub fn publish(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<PublishDiag
             .entry(span.file)
             .or_default()
             .push(lsp_types::Diagnostic {
-                range: range(&outcome.sources, span),
+                range: ranges.range(span),
                 severity: Some(match d.severity {
                     Severity::Error => DiagnosticSeverity::ERROR,
                     Severity::Warning => DiagnosticSeverity::WARNING,
@@ -60,7 +61,7 @@ pub fn publish(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<PublishDiag
     by_file
         .entry(0)
         .or_default()
-        .extend(at_includes(main, doc, outcome));
+        .extend(at_includes(main, doc, outcome, ranges));
     by_file
         .into_iter()
         .filter_map(|(file, diagnostics)| {
@@ -74,7 +75,12 @@ pub fn publish(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<PublishDiag
 /// One error at each `include` line of the document through which errors
 /// of included files (at any depth) came in, with those errors as related
 /// information.
-fn at_includes(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<lsp_types::Diagnostic> {
+fn at_includes(
+    main: &Uri,
+    doc: &Document,
+    outcome: &Outcome,
+    ranges: &mut Ranges,
+) -> Vec<lsp_types::Diagnostic> {
     let errors: Vec<(u32, &crate::lang::Diagnostic)> = outcome
         .diagnostics
         .iter()
@@ -115,7 +121,7 @@ fn at_includes(main: &Uri, doc: &Document, outcome: &Outcome) -> Vec<lsp_types::
                 .take(MAX_RELATED)
                 .filter_map(|d| {
                     Some(DiagnosticRelatedInformation {
-                        location: location(main, &outcome.sources, d.span?)?,
+                        location: location(main, ranges, d.span?)?,
                         message: d.message.clone(),
                     })
                 })
@@ -170,14 +176,33 @@ fn file_uri(main: &Uri, sources: &SourceMap, file: u32) -> Option<Uri> {
     path_to_uri(&path)
 }
 
-fn range(sources: &SourceMap, span: Span) -> lsp_types::Range {
-    let lines = Lines::new(&sources.file(span.file).text);
-    lines.range(span.start as usize, span.end as usize)
+/// The line index of each file, built once for all of a check's
+/// diagnostics (one per diagnostic is quadratic in a file with many).
+struct Ranges<'a> {
+    sources: &'a SourceMap,
+    lines: HashMap<u32, Lines<'a>>,
 }
 
-fn location(main: &Uri, sources: &SourceMap, span: Span) -> Option<Location> {
+impl<'a> Ranges<'a> {
+    fn new(sources: &'a SourceMap) -> Ranges<'a> {
+        Ranges {
+            sources,
+            lines: HashMap::new(),
+        }
+    }
+
+    fn range(&mut self, span: Span) -> lsp_types::Range {
+        let sources = self.sources;
+        self.lines
+            .entry(span.file)
+            .or_insert_with(|| Lines::new(&sources.file(span.file).text))
+            .range(span.start as usize, span.end as usize)
+    }
+}
+
+fn location(main: &Uri, ranges: &mut Ranges, span: Span) -> Option<Location> {
     Some(Location::new(
-        file_uri(main, sources, span.file)?,
-        range(sources, span),
+        file_uri(main, ranges.sources, span.file)?,
+        ranges.range(span),
     ))
 }
