@@ -5,98 +5,8 @@
 
 mod support;
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
-
 use serde_json::{json, Value};
-
-/// A running server and the id of the next request.
-struct Client {
-    child: Child,
-    stdin: ChildStdin,
-    stdout: BufReader<ChildStdout>,
-    next_id: i64,
-}
-
-impl Client {
-    fn start() -> Client {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_rtlang"))
-            .arg("lsp")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("rtlang lsp starts");
-        let stdin = child.stdin.take().expect("stdin");
-        let stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        Client {
-            child,
-            stdin,
-            stdout,
-            next_id: 1,
-        }
-    }
-
-    fn send(&mut self, message: Value) {
-        let body = message.to_string();
-        write!(self.stdin, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("write");
-        self.stdin.flush().expect("flush");
-    }
-
-    fn receive(&mut self) -> Value {
-        let mut length = 0;
-        loop {
-            let mut line = String::new();
-            self.stdout.read_line(&mut line).expect("a header line");
-            let line = line.trim_end();
-            if line.is_empty() {
-                break;
-            }
-            if let Some(n) = line.strip_prefix("Content-Length: ") {
-                length = n.parse().expect("a length");
-            }
-        }
-        let mut body = vec![0; length];
-        self.stdout.read_exact(&mut body).expect("the body");
-        serde_json::from_slice(&body).expect("JSON")
-    }
-
-    fn notify(&mut self, method: &str, params: Value) {
-        self.send(json!({"jsonrpc": "2.0", "method": method, "params": params}));
-    }
-
-    /// Sends a request and returns its result (skipping notifications).
-    fn request(&mut self, method: &str, params: Value) -> Value {
-        let id = self.next_id;
-        self.next_id += 1;
-        self.send(json!({"jsonrpc": "2.0", "id": id, "method": method, "params": params}));
-        loop {
-            let message = self.receive();
-            if message["id"] == json!(id) {
-                assert!(message.get("error").is_none(), "{method}: {message}");
-                return message["result"].clone();
-            }
-        }
-    }
-
-    /// The next diagnostics published for `uri`.
-    fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
-        loop {
-            let message = self.receive();
-            if message["method"] == "textDocument/publishDiagnostics"
-                && message["params"]["uri"] == uri
-            {
-                return message["params"]["diagnostics"]
-                    .as_array()
-                    .cloned()
-                    .unwrap_or_default();
-            }
-        }
-    }
-}
-
-fn at(uri: &str, line: u32, character: u32) -> Value {
-    json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": character}})
-}
+use support::lsp::{at, uri_of, Client};
 
 const BROKEN: &str =
     "let m = lambertian(rgb(0.5, 0.5, 0.5))\nlet r = 2\n\nsphere {\n  radius r\n  material mm\n}\n";
@@ -242,4 +152,154 @@ fn a_whole_session_over_stdio() {
     client.notify("exit", Value::Null);
     let status = client.child.wait().expect("the server exits");
     assert!(status.success());
+}
+
+/// `main.rt` includes `mid.rt`, which includes `deep.rt`.
+fn three_files(dir: &std::path::Path, deep: &str) -> (String, String) {
+    support::scratch::write(dir, "deep.rt", deep);
+    support::scratch::write(
+        dir,
+        "mid.rt",
+        "include \"deep.rt\"\nlet twice = depth * 2\n",
+    );
+    let main = support::scratch::write(
+        dir,
+        "main.rt",
+        "include \"mid.rt\"\nsphere { radius depth + twice }\n",
+    );
+    (uri_of(&main), uri_of(&dir.join("deep.rt")))
+}
+
+#[test]
+fn an_error_in_an_included_file_shows_at_the_include_line() {
+    let dir = support::scratch::folder("lsp-include-error");
+    let (main, deep) = three_files(&dir, "let depth = 3\nlet oops = nope\n");
+    let mut client = Client::initialized();
+    let text = std::fs::read_to_string(dir.join("main.rt")).expect("main.rt");
+    client.open(&main, &text);
+    let found = client.diagnostics(&main);
+    let at_include: Vec<&Value> = found
+        .iter()
+        .filter(|d| d["code"] == "rtlang::included-error")
+        .collect();
+    assert_eq!(at_include.len(), 1, "{found:?}");
+    assert_eq!(at_include[0]["range"]["start"]["line"], 0);
+    assert_eq!(at_include[0]["severity"], 1);
+    let related = &at_include[0]["relatedInformation"][0]["location"];
+    assert_eq!(related["uri"], deep, "{related}");
+    assert_eq!(related["range"]["start"]["line"], 1);
+
+    // Fixing the included file in its own buffer (unsaved) clears the
+    // includer's diagnostic.
+    client.open(&deep, "let depth = 3\n");
+    loop {
+        let (found, _) = client.published(&main);
+        if found.iter().all(|d| d["code"] != "rtlang::included-error") {
+            break;
+        }
+    }
+}
+
+#[test]
+fn definition_hover_and_references_follow_includes_to_any_depth() {
+    let dir = support::scratch::folder("lsp-include-nav");
+    let (main, deep) = three_files(&dir, "let depth = 3\n");
+    let mut client = Client::initialized();
+    let text = std::fs::read_to_string(dir.join("main.rt")).expect("main.rt");
+    client.open(&main, &text);
+    client.diagnostics(&main);
+    let on_depth = at(&main, 1, 18);
+
+    let def = client.request("textDocument/definition", on_depth.clone());
+    assert_eq!(def["uri"], deep, "{def}");
+    assert_eq!(def["range"]["start"], json!({"line": 0, "character": 4}));
+
+    let hover = client.request("textDocument/hover", on_depth.clone());
+    let shown = hover["contents"]["value"].as_str().unwrap_or_default();
+    assert!(
+        shown.contains("let depth = 3") && shown.contains("3"),
+        "{shown}"
+    );
+
+    let mut params = on_depth;
+    params["context"] = json!({"includeDeclaration": true});
+    let refs = client.request("textDocument/references", params);
+    let mut files: Vec<&str> = refs
+        .as_array()
+        .expect("a list")
+        .iter()
+        .filter_map(|r| r["uri"].as_str())
+        .map(|u| u.rsplit('/').next().unwrap_or(u))
+        .collect();
+    files.sort_unstable();
+    assert_eq!(files, ["deep.rt", "main.rt", "mid.rt"], "{refs}");
+}
+
+/// The labels of the completions at a position.
+fn labels(client: &mut Client, uri: &str, line: u32, character: u32) -> Vec<String> {
+    let found = client.request("textDocument/completion", at(uri, line, character));
+    found
+        .as_array()
+        .expect("a list")
+        .iter()
+        .filter_map(|c| c["label"].as_str().map(str::to_string))
+        .collect()
+}
+
+/// A server with `text` open as `a.rt` in a fresh folder (kept alive by
+/// the returned value).
+fn opened(text: &str) -> (support::scratch::Folder, String, Client) {
+    let dir = support::scratch::folder("lsp-complete");
+    let uri = uri_of(&support::scratch::write(&dir, "a.rt", "let r = 1\n"));
+    let mut client = Client::initialized();
+    client.open(&uri, text);
+    (dir, uri, client)
+}
+
+#[test]
+fn completion_offers_names_while_the_text_does_not_parse() {
+    // Opened in the middle of typing: the sphere is not closed.
+    let (_dir, uri, mut client) =
+        opened("let size_a = 2\nlet glass = dielectric(1.5)\nsphere {\n  radius si");
+    let found = labels(&mut client, &uri, 3, 11);
+    for want in ["size_a", "glass"] {
+        assert!(found.iter().any(|l| l == want), "{want} missing: {found:?}");
+    }
+    // A name defined in a text that parsed stays offered while a later
+    // edit breaks the file.
+    client.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": uri, "version": 2},
+               "contentChanges": [{"text": "let kept = 2\nsphere { radius 1 }\n"}]}),
+    );
+    while client.published(&uri).1 != 2 {}
+    client.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": uri, "version": 3},
+               "contentChanges": [{"text": "let kept = \nsphere { radius k"}]}),
+    );
+    let found = labels(&mut client, &uri, 1, 17);
+    assert!(found.iter().any(|l| l == "kept"), "{found:?}");
+}
+
+#[test]
+fn completion_after_a_property_offers_values_not_properties() {
+    let (_dir, uri, mut client) =
+        opened("let glass = dielectric(1.5)\nsphere {\n  radius 1\n  material \n}\nsphere { radius 2 material  }\n");
+    let found = labels(&mut client, &uri, 3, 11);
+    for want in ["glass", "lambertian", "checker", "pi", "true"] {
+        assert!(found.iter().any(|l| l == want), "{want} missing: {found:?}");
+    }
+    for unwanted in ["radius", "center", "translate"] {
+        assert!(
+            !found.iter().any(|l| l == unwanted),
+            "{unwanted} in {found:?}"
+        );
+    }
+    // After a value on one line, the next property's value.
+    let found = labels(&mut client, &uri, 5, 27);
+    assert!(found.iter().any(|l| l == "glass") && !found.iter().any(|l| l == "radius"));
+    // A new line in the block still offers its properties.
+    let found = labels(&mut client, &uri, 2, 0);
+    assert!(found.iter().any(|l| l == "center"), "{found:?}");
 }

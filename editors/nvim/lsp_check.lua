@@ -1,7 +1,9 @@
 -- CI check of `rtlang lsp` with Neovim's built-in LSP client (run by
 -- .ci/run): open error.rt, wait for the server's error on the line with the
--- misspelt constructor, then go to the definition of `ball` from its
--- `place` and land on the `let`. Exits non-zero on any failure.
+-- misspelt constructor, ask for completions after `material ` (values such
+-- as `lambertian`, not properties such as `radius`), then go to the
+-- definition of `ball` from its `place` and land on the `let`. Exits
+-- non-zero on any failure.
 --
 --   RTLANG=target/release/rtlang nvim --headless -u NONE -l editors/nvim/lsp_check.lua
 -- (Neovim 0.7, Debian 12's, has no `-l`: use `-c "luafile editors/nvim/lsp_check.lua"`.)
@@ -48,6 +50,22 @@ if got.lnum ~= want then
   fail(string.format("the error is on line %d, not %d: %s", got.lnum + 1, want + 1, got.message))
 end
 print(string.format("diagnostic on line %d: %s", got.lnum + 1, got.message:gsub("\n.*", "")))
+
+local mat_line, mat_col = line_of("material lambertain")
+local replies = vim.lsp.buf_request_sync(buf, "textDocument/completion", {
+  textDocument = { uri = vim.uri_from_bufnr(buf) },
+  position = { line = mat_line - 1, character = mat_col - 1 + #"material " },
+}, 10000)
+local labels = {}
+for _, reply in pairs(replies or {}) do
+  for _, item in ipairs((reply.result or {}).items or reply.result or {}) do
+    labels[item.label] = true
+  end
+end
+if not labels["lambertian"] or labels["radius"] then
+  fail("completion after `material ` is not the values: " .. vim.inspect(vim.tbl_keys(labels)))
+end
+print("completion after `material `: lambertian, no radius")
 
 local use_line, use_col = line_of("place ball")
 vim.api.nvim_win_set_cursor(0, { use_line, use_col + #"place " })

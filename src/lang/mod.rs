@@ -28,7 +28,7 @@ use std::path::Path;
 use crate::scene::Scene;
 
 pub use diagnostics::{Diagnostic, Severity};
-pub use eval::{budget, random, Options, Outcome};
+pub use eval::{budget, random, Options, Outcome, PREDEFINED};
 pub use source::{SourceMap, Span};
 
 /// A scene compiled from source, with the warnings found on the way.

@@ -1,10 +1,13 @@
 //! Completion: the properties valid in the block under the cursor, the
 //! keywords that may begin a statement there, functions and constructors
-//! with their argument names, and the names in scope.
+//! with their argument names, and the names in scope (also of included
+//! files, and while the text has syntax errors). Right after a property
+//! name only values are offered.
 
 use lsp_types::{CompletionItem, CompletionItemKind, InsertTextFormat};
 
 use super::document::Document;
+use super::hover::word_at;
 use super::reference;
 
 /// Keywords that open a block, as the scan below tracks them.
@@ -18,9 +21,15 @@ const OBJECTS: &[&str] = &[
     "sphere", "plane", "rect", "box", "triangle", "mesh", "revolve", "medium", "group", "repeat",
 ];
 
+/// Keywords that begin a value.
+const VALUE_KEYWORDS: &[&str] = &["true", "false", "not", "if", "bezier"];
+
 /// The completions at byte `at`.
 pub fn complete(doc: &Document, at: usize) -> Vec<CompletionItem> {
     let block = block_at(&doc.text, at);
+    if block.is_some_and(|b| after_property(&doc.text, at, b)) {
+        return values(doc, at);
+    }
     let mut items = Vec::new();
     let keyword = |name: &str| CompletionItem {
         label: name.to_string(),
@@ -58,6 +67,56 @@ pub fn complete(doc: &Document, at: usize) -> Vec<CompletionItem> {
     if matches!(block, "group" | "repeat" | "if") {
         items.extend(OBJECTS.iter().chain(&["place", "if"]).map(|k| keyword(k)));
     }
+    items.extend(values(doc, at));
+    items
+}
+
+/// Whether byte `at` is where a property's value goes: after a property
+/// name of `block` (and the partial word being typed) that is not itself
+/// the value of a property before it.
+fn after_property(text: &str, at: usize, block: &str) -> bool {
+    let at = at.min(text.len());
+    let start = word_at(text, at).map_or(at, |(start, _)| start.min(at));
+    let Some((name_start, name_end)) = word_before(text, start) else {
+        return false;
+    };
+    // `material glass ` is after a value, `radius 1 material ` is not.
+    is_property(&text[name_start..name_end], block)
+        && word_before(text, name_start).is_none_or(|(s, e)| !is_property(&text[s..e], block))
+}
+
+/// The word (`start`, `end`) that ends where the spaces before `at` begin
+/// (on the same line; none if no space comes before `at`).
+fn word_before(text: &str, at: usize) -> Option<(usize, usize)> {
+    let before = text[..at].trim_end_matches([' ', '\t']);
+    if before.len() == at {
+        // No space between that word and `at`.
+        return None;
+    }
+    word_at(text, before.len())
+}
+
+fn is_property(word: &str, block: &str) -> bool {
+    reference::lookup(word).any(|e| e.kind == "property" && e.valid_in(block))
+}
+
+/// What may begin a value: the names in scope, the predefined ones,
+/// functions and constructors, and the keywords that begin values.
+fn values(doc: &Document, at: usize) -> Vec<CompletionItem> {
+    let mut items: Vec<CompletionItem> = VALUE_KEYWORDS
+        .iter()
+        .map(|k| CompletionItem {
+            label: k.to_string(),
+            kind: Some(CompletionItemKind::KEYWORD),
+            detail: reference::lookup(k).next().map(|e| e.doc.clone()),
+            ..CompletionItem::default()
+        })
+        .collect();
+    items.extend(crate::lang::PREDEFINED.iter().map(|n| CompletionItem {
+        label: n.to_string(),
+        kind: Some(CompletionItemKind::CONSTANT),
+        ..CompletionItem::default()
+    }));
     for e in reference::entries() {
         if let (true, Some(sig)) = (
             matches!(e.kind, "function" | "texture" | "material"),
@@ -77,13 +136,22 @@ pub fn complete(doc: &Document, at: usize) -> Vec<CompletionItem> {
             });
         }
     }
-    for def in doc.index.in_scope(at) {
-        items.push(CompletionItem {
-            label: def.name.clone(),
-            kind: Some(CompletionItemKind::VARIABLE),
-            detail: def.value.clone(),
-            ..CompletionItem::default()
-        });
+    // The document's names (and those a syntax error hides for now), then
+    // the top-level names of the files it includes.
+    let included = doc
+        .included
+        .iter()
+        .flat_map(|i| i.index.defs.iter().filter(|d| !d.kind.is_scoped()));
+    let mut seen = std::collections::HashSet::new();
+    for def in doc.index.in_scope(at).chain(&doc.recalled).chain(included) {
+        if seen.insert(def.name.as_str()) {
+            items.push(CompletionItem {
+                label: def.name.clone(),
+                kind: Some(CompletionItemKind::VARIABLE),
+                detail: def.value.clone(),
+                ..CompletionItem::default()
+            });
+        }
     }
     items
 }

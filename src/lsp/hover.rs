@@ -1,18 +1,20 @@
 //! Hover: the value and type of a definition, or the reference table's
 //! docs of a keyword, property, function or constructor.
 
-use lsp_types::{Hover, HoverContents, MarkupContent, MarkupKind};
+use lsp_types::{Hover, HoverContents, MarkupContent, MarkupKind, Uri};
 
 use super::document::Document;
 use super::index::DefKind;
-use super::reference;
+use super::{reference, scope};
 
-/// The hover text at byte `at`.
-pub fn hover(doc: &Document, at: usize) -> Option<Hover> {
-    let text = if let Some(def) = doc.index.resolve(at) {
+/// The hover text at byte `at`: of a definition in the document or in a
+/// file it includes, to any depth, else of a built-in.
+pub fn hover(uri: &Uri, doc: &Document, at: usize) -> Option<Hover> {
+    let text = if let Some(found) = scope::resolve(uri, doc, at) {
+        let def = found.def;
         let value = doc
             .values
-            .get(&def.name_span.start)
+            .get(&(found.site.file, def.name_span.start))
             .map_or("not evaluated".to_string(), Clone::clone);
         match (def.kind, &def.value) {
             (DefKind::Argument, _) => format!("`{}`: a parameter of the function", def.name),

@@ -1,6 +1,8 @@
-//! `rtlang lsp`: a language server over stdio on `lsp-server` and
-//! `lsp-types` (rust-analyzer's crates). This module holds the open
-//! documents and routes messages; each feature has a file of its own.
+//! `rtlang lsp`: a language server over stdio on `lsp-server`'s message
+//! types and `lsp-types` (rust-analyzer's crates), with a transport of its
+//! own (`transport.rs` says why). This module holds the open documents and
+//! routes messages; the lifecycle is `session.rs`'s, and each feature has a
+//! file of its own.
 //!
 //! Documents sync whole (every change sends the full text): scene files are
 //! small and a full re-check is what gives `rtlang check`'s diagnostics.
@@ -13,13 +15,17 @@ mod index;
 mod navigate;
 mod position;
 pub mod reference;
+mod scope;
+mod session;
 mod symbols;
+pub mod transport;
 
 use std::collections::HashMap;
-use std::error::Error;
+use std::io::{self, Write};
+use std::str::FromStr;
 use std::sync::Arc;
 
-use lsp_server::{Connection, ErrorCode, Message, Notification, Request, Response};
+use lsp_server::{ErrorCode, Notification, Request, Response};
 use lsp_types::notification::Notification as _;
 use lsp_types::request::Request as _;
 use lsp_types::{notification, request, *};
@@ -31,41 +37,16 @@ use crate::lang::cache::AssetCache;
 use document::Document;
 use position::{uri_to_path, Lines};
 
-type Failure = Box<dyn Error + Send + Sync>;
-
-/// Serves one client on stdin and stdout until it shuts down.
-pub fn serve_stdio() -> Result<(), Failure> {
-    let (connection, threads) = Connection::stdio();
-    serve(&connection)?;
-    // The writer thread ends when the last sender is gone.
-    drop(connection);
-    threads.join()?;
-    Ok(())
-}
-
-/// The initialize handshake, then messages until `shutdown` and `exit`.
-pub fn serve(connection: &Connection) -> Result<(), Failure> {
-    connection.initialize(serde_json::to_value(capabilities())?)?;
-    let mut server = Server::default();
-    for message in &connection.receiver {
-        match message {
-            Message::Request(req) => {
-                if connection.handle_shutdown(&req)? {
-                    return Ok(());
-                }
-                connection
-                    .sender
-                    .send(Message::Response(server.request(req)))?;
-            }
-            Message::Notification(n) => {
-                for out in server.notification(n) {
-                    connection.sender.send(Message::Notification(out))?;
-                }
-            }
-            Message::Response(_) => {}
-        }
-    }
-    Ok(())
+/// Serves one client on stdin and stdout until it sends `exit` or closes
+/// stdin. Returns whether it shut down as the specification says
+/// (`shutdown`, then `exit`): the exit code is 0 then and 1 otherwise.
+pub fn serve_stdio() -> io::Result<bool> {
+    let messages = transport::stdin_messages();
+    session::run(&messages, &mut |message| {
+        let mut out = io::stdout().lock();
+        message.write(&mut out)?;
+        out.flush()
+    })
 }
 
 fn capabilities() -> ServerCapabilities {
@@ -124,6 +105,15 @@ impl Server {
     }
 
     fn request(&mut self, req: Request) -> Response {
+        // The document asked about is indexed as of its latest text (its
+        // check may wait for a pause in the edits).
+        let uri = req.params["textDocument"]["uri"].as_str();
+        if let Some(doc) = uri
+            .and_then(|u| Uri::from_str(u).ok())
+            .and_then(|u| self.documents.get_mut(&u))
+        {
+            doc.refresh_index();
+        }
         match self.answer(&req) {
             Ok(response) | Err(response) => response,
         }
@@ -133,8 +123,12 @@ impl Server {
         Ok(match req.method.as_str() {
             request::HoverRequest::METHOD => {
                 let p: HoverParams = params(req)?;
-                let found = self.at(&p.text_document_position_params);
-                reply(req, found.and_then(|(doc, at)| hover::hover(doc, at)))
+                let pos = &p.text_document_position_params;
+                let found = self.at(pos);
+                reply(
+                    req,
+                    found.and_then(|(doc, at)| hover::hover(&pos.text_document.uri, doc, at)),
+                )
             }
             request::GotoDefinition::METHOD => {
                 let p: GotoDefinitionParams = params(req)?;
@@ -210,47 +204,89 @@ impl Server {
         })
     }
 
-    /// Handles a notification; returns the diagnostics to publish.
-    fn notification(&mut self, n: Notification) -> Vec<Notification> {
-        let changed = match n.method.as_str() {
+    /// Handles a notification: a document opened, changed or closed.
+    fn notification(&mut self, n: Notification) {
+        match n.method.as_str() {
             notification::DidOpenTextDocument::METHOD => {
-                serde_json::from_value::<DidOpenTextDocumentParams>(n.params)
-                    .ok()
-                    .map(|p| (p.text_document.uri, p.text_document.text))
+                if let Ok(p) = serde_json::from_value::<DidOpenTextDocumentParams>(n.params) {
+                    let doc = p.text_document;
+                    self.set_text(doc.uri, doc.text, doc.version);
+                }
             }
             notification::DidChangeTextDocument::METHOD => {
-                serde_json::from_value::<DidChangeTextDocumentParams>(n.params)
-                    .ok()
-                    .and_then(|p| {
-                        Some((
-                            p.text_document.uri,
-                            p.content_changes.into_iter().last()?.text,
-                        ))
-                    })
+                if let Ok(p) = serde_json::from_value::<DidChangeTextDocumentParams>(n.params) {
+                    if let Some(change) = p.content_changes.into_iter().last() {
+                        let doc = p.text_document;
+                        self.set_text(doc.uri, change.text, doc.version);
+                    }
+                }
             }
             notification::DidCloseTextDocument::METHOD => {
                 if let Ok(p) = serde_json::from_value::<DidCloseTextDocumentParams>(n.params) {
-                    self.documents.remove(&p.text_document.uri);
+                    if let Some(closed) = self.documents.remove(&p.text_document.uri) {
+                        // Its includers read the file on disk again.
+                        self.includers_stale(&closed.path);
+                    }
                 }
-                None
             }
-            _ => None,
-        };
-        let Some((uri, text)) = changed else {
-            return Vec::new();
-        };
+            _ => {}
+        }
+    }
+
+    fn set_text(&mut self, uri: Uri, text: String, version: i32) {
         let Some(path) = uri_to_path(&uri) else {
-            return Vec::new();
+            return;
         };
         let doc = self
             .documents
-            .entry(uri.clone())
+            .entry(uri)
             .or_insert_with(|| Document::new(path));
-        let outcome = doc.update(&text, &self.assets);
-        diagnostics::publish(&uri, &outcome)
-            .into_iter()
-            .map(|p| Notification::new(notification::PublishDiagnostics::METHOD.to_string(), p))
-            .collect()
+        doc.set_text(text, version);
+        let path = doc.path.clone();
+        self.includers_stale(&path);
+    }
+
+    /// Marks for a new check every open document whose last check read the
+    /// file at `path`, so an error made or fixed there shows at their
+    /// `include` lines.
+    fn includers_stale(&mut self, path: &std::path::Path) {
+        for doc in self.documents.values_mut() {
+            if doc.reads(path) {
+                doc.stale_check = true;
+            }
+        }
+    }
+
+    /// Checks every document whose text (or an included open document's)
+    /// changed since its last check; returns the diagnostics to publish.
+    fn check_changed(&mut self) -> Vec<Notification> {
+        let stale: Vec<Uri> = self
+            .documents
+            .iter()
+            .filter(|(_, d)| d.stale_check)
+            .map(|(u, _)| u.clone())
+            .collect();
+        let mut out = Vec::new();
+        for uri in stale {
+            let buffers = self
+                .documents
+                .iter()
+                .filter(|(u, _)| **u != uri)
+                .map(|(_, d)| (d.path.clone(), d.text.clone()))
+                .collect();
+            let Some(doc) = self.documents.get_mut(&uri) else {
+                continue;
+            };
+            let outcome = doc.check(&self.assets, buffers);
+            out.extend(
+                diagnostics::publish(&uri, doc, &outcome)
+                    .into_iter()
+                    .map(|p| {
+                        Notification::new(notification::PublishDiagnostics::METHOD.to_string(), p)
+                    }),
+            );
+        }
+        out
     }
 }
 

@@ -53,6 +53,48 @@ impl<'a> Lines<'a> {
     }
 }
 
+/// The positions of byte offsets asked for in increasing order, each found
+/// from the one before: converting every token of a text walks it once,
+/// where [`Lines::position`] would count each column from its line start
+/// (quadratic on one long line).
+pub struct Walker<'a> {
+    text: &'a str,
+    at: usize,
+    position: Position,
+}
+
+impl<'a> Walker<'a> {
+    pub fn new(text: &'a str) -> Walker<'a> {
+        Walker {
+            text,
+            at: 0,
+            position: Position::new(0, 0),
+        }
+    }
+
+    /// The position of byte offset `to` (clamped to the text, and moved
+    /// back to a character boundary); an offset before the last one asked
+    /// for starts the walk over from the beginning.
+    pub fn position(&mut self, to: usize) -> Position {
+        let mut to = to.min(self.text.len());
+        while !self.text.is_char_boundary(to) {
+            to -= 1;
+        }
+        if to < self.at {
+            (self.at, self.position) = (0, Position::new(0, 0));
+        }
+        for c in self.text[self.at..to].chars() {
+            if c == '\n' {
+                self.position = Position::new(self.position.line + 1, 0);
+            } else {
+                self.position.character += c.len_utf16() as u32;
+            }
+        }
+        self.at = to;
+        self.position
+    }
+}
+
 /// The local path of a `file:` URI.
 pub fn uri_to_path(uri: &Uri) -> Option<PathBuf> {
     let rest = uri.as_str().strip_prefix("file://")?;
@@ -103,6 +145,20 @@ mod tests {
         assert_eq!(pos, Position::new(1, 8), "é is one unit, 𝄞 two");
         assert_eq!(lines.offset(pos), at);
         assert_eq!(lines.offset(Position::new(0, 99)), 9, "clamped to the line");
+    }
+
+    #[test]
+    fn the_walker_agrees_with_the_line_index() {
+        let text = "let a = 1\nlet é𝄞 = \"x\"\n\nsphere {}";
+        let lines = Lines::new(text);
+        let mut walker = Walker::new(text);
+        let offsets: Vec<usize> = (0..=text.len())
+            .filter(|&i| text.is_char_boundary(i))
+            .collect();
+        for &at in &offsets {
+            assert_eq!(walker.position(at), lines.position(at), "at {at}");
+        }
+        assert_eq!(walker.position(4), lines.position(4), "a step back");
     }
 
     #[test]

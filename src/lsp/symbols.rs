@@ -4,7 +4,7 @@
 use lsp_types::{DocumentSymbol, SemanticToken, SemanticTokenType, SymbolKind};
 
 use super::document::Document;
-use super::position::Lines;
+use super::position::{Lines, Walker};
 
 /// The outline of the document.
 #[allow(deprecated)] // `DocumentSymbol::deprecated` must be named to build one.
@@ -46,16 +46,32 @@ pub const TOKEN_TYPES: [SemanticTokenType; 8] = [
     SemanticTokenType::OPERATOR,
 ];
 
-/// The semantic tokens of the document, relative-encoded as LSP wants.
+/// The starts of `spans` in increasing order, for [`Starts::take`].
+struct Starts(std::iter::Peekable<std::vec::IntoIter<usize>>);
+
+impl Starts {
+    fn new(spans: &[crate::lang::Span]) -> Starts {
+        let mut starts: Vec<usize> = spans.iter().map(|s| s.start as usize).collect();
+        starts.sort_unstable();
+        Starts(starts.into_iter().peekable())
+    }
+
+    /// Whether one of the starts is `at`; asked with increasing `at`, so
+    /// the starts are walked once in all.
+    fn take(&mut self, at: usize) -> bool {
+        while self.0.next_if(|&s| s < at).is_some() {}
+        self.0.next_if_eq(&at).is_some()
+    }
+}
+
+/// The semantic tokens of the document, relative-encoded as LSP wants, in
+/// time linear in the text (a 20 MB document is one walk).
 pub fn tokens(doc: &Document) -> Vec<SemanticToken> {
     let text: &str = &doc.text;
     let bytes = text.as_bytes();
     let comments = crate::lang::trivia::comments(text);
-    let starts = |spans: &[crate::lang::Span]| -> Vec<usize> {
-        spans.iter().map(|s| s.start as usize).collect()
-    };
-    let properties = starts(&doc.index.properties);
-    let callees = starts(&doc.index.callees);
+    let mut properties = Starts::new(&doc.index.properties);
+    let mut callees = Starts::new(&doc.index.callees);
     let mut found: Vec<(usize, usize, u32)> = Vec::new();
     let mut comments = comments.into_iter().peekable();
     let mut i = 0;
@@ -90,9 +106,9 @@ pub fn tokens(doc: &Document) -> Vec<SemanticToken> {
                 let word = &text[i..end];
                 let kind = if crate::lang::names::is_keyword(word) {
                     0
-                } else if callees.contains(&i) {
+                } else if callees.take(i) {
                     4
-                } else if properties.contains(&i) {
+                } else if properties.take(i) {
                     5
                 } else {
                     6
@@ -107,19 +123,24 @@ pub fn tokens(doc: &Document) -> Vec<SemanticToken> {
         }
         i = end;
     }
-    encode(&Lines::new(text), text, &found)
+    encode(text, &found)
 }
 
 /// LSP's relative encoding; a token spanning lines is cut at each line end.
-fn encode(lines: &Lines, text: &str, found: &[(usize, usize, u32)]) -> Vec<SemanticToken> {
+/// The tokens come in text order, so one [`Walker`] converts them all.
+fn encode(text: &str, found: &[(usize, usize, u32)]) -> Vec<SemanticToken> {
     let mut out = Vec::new();
+    let mut walker = Walker::new(text);
     let (mut line, mut col) = (0, 0);
     for &(start, end, kind) in found {
         let mut from = start;
-        for piece in text[start..end].split_inclusive('\n') {
+        let Some(token) = text.get(start..end) else {
+            continue;
+        };
+        for piece in token.split_inclusive('\n') {
             let to = from + piece.trim_end_matches(['\n', '\r']).len();
-            let a = lines.position(from);
-            let b = lines.position(to);
+            let a = walker.position(from);
+            let b = walker.position(to);
             if b.character > a.character {
                 let delta_line = a.line - line;
                 let delta_start = if delta_line == 0 {

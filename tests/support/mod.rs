@@ -3,6 +3,7 @@
 
 pub mod defines;
 pub mod gen;
+pub mod lsp;
 pub mod pipeline;
 pub mod render;
 pub mod scratch;

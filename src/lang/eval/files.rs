@@ -166,10 +166,21 @@ impl Evaluator {
             },
             None => d,
         };
-        if let Some((open, text)) = &self.options.overlay {
-            if open == path {
-                return Some(text.clone());
-            }
+        if let Some((_, text)) = self.options.overlay.iter().find(|(open, _)| open == path) {
+            return Some(text.clone());
+        }
+        // Buffers are named by the editor's (absolute) paths, includes by
+        // the including file's folder joined with a relative path.
+        let real = (!self.options.overlays.is_empty())
+            .then(|| std::fs::canonicalize(path).ok())
+            .flatten();
+        let buffer = self
+            .options
+            .overlays
+            .iter()
+            .find(|(open, _)| open == path || real.as_ref().is_some_and(|real| real == open));
+        if let Some((_, text)) = buffer {
+            return Some(text.clone());
         }
         let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
         if size > MAX_FILE_BYTES {

@@ -43,6 +43,7 @@ use super::diagnostics::Diagnostic;
 use super::source::{SourceMap, Span};
 
 pub(crate) use builtins::Args;
+pub use defs::PREDEFINED;
 pub use math::random;
 pub(crate) use value::Value;
 
@@ -59,6 +60,9 @@ pub struct Options {
     pub memory_budget: u64,
     /// A file's text to use instead of what is on disk (an editor's buffer).
     pub overlay: Option<(PathBuf, Arc<str>)>,
+    /// More files' texts to use instead of what is on disk (the editor's
+    /// other open buffers, for the files the scene includes).
+    pub overlays: Vec<(PathBuf, Arc<str>)>,
     /// Where images and meshes are loaded through (shared by the language
     /// server's evaluations).
     pub assets: Arc<AssetCache>,
@@ -72,6 +76,7 @@ impl Default for Options {
             fps: 24.0,
             memory_budget: budget::DEFAULT_BUDGET,
             overlay: None,
+            overlays: Vec::new(),
             assets: Arc::default(),
         }
     }
