@@ -230,9 +230,14 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
 }
 
 /// For a `let` or `param` that failed to parse, a definition whose value
-/// is an error, so its uses give no follow-on "unknown name" errors.
+/// is an error, so its uses give no follow-on "unknown name" errors; for a
+/// `fn` whose body failed, the function with its parameters and an error
+/// as its body, so its calls give no "unknown function" errors.
 fn placeholder(text: &str, file: u32, at: usize) -> Option<Item> {
     let rest = &text[at..];
+    if rest.starts_with("fn") {
+        return fn_placeholder(text, file, at).map(Item::Fn);
+    }
     let (kw, after) = if let Some(r) = rest.strip_prefix("let") {
         ("let", r)
     } else {
@@ -260,6 +265,44 @@ fn placeholder(text: &str, file: u32, at: usize) -> Option<Item> {
     } else {
         Item::Param { name, value, span }
     })
+}
+
+/// The head `fn NAME(PARAMS)` at `at` parsed with a stand-in body; `None`
+/// when the error is in the head itself.
+fn fn_placeholder(text: &str, file: u32, at: usize) -> Option<Function> {
+    let open = at + text[at..].find('(')?;
+    let mut depth = 0usize;
+    let close = text[open..].char_indices().find_map(|(i, c)| {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            _ => {}
+        }
+        (depth == 0).then_some(open + i)
+    })?;
+    // The head keeps its offsets; `0` stands in for the body that failed.
+    let head = format!("{} = 0", &text[at..=close]);
+    let pair = Grammar::parse(Rule::one_item, &head)
+        .ok()?
+        .next()?
+        .into_inner()
+        .next()?;
+    if pair.as_rule() != Rule::fn_item {
+        return None;
+    }
+    let mut lower = Lower {
+        file,
+        offset: at,
+        diagnostics: Vec::new(),
+    };
+    let mut f = lower.function(pair);
+    let span = Span::new(file, at, close + 1);
+    f.body = Expr {
+        kind: ExprKind::Error,
+        span,
+    };
+    f.span = span;
+    Some(f)
 }
 
 /// Parses a single expression (a `-D` value), or returns its syntax errors.
@@ -381,6 +424,9 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
     if let Some(d) = rotate_without_angle(text, file, at) {
         return Some(d);
     }
+    if let Some(d) = rect_without_plane(text, file, at) {
+        return Some(d);
+    }
     let bytes = text.as_bytes();
     let word_at = |i: usize| {
         let end = (i..bytes.len())
@@ -469,6 +515,9 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
         }
         b',' if prev.bytes().all(|b| b.is_ascii_digit() || b == b'.')
             && !prev.is_empty()
+            && text[at + 1..]
+                .trim_start_matches([' ', '\t'])
+                .starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '.')
             && [
                 "translate",
                 "scale",
@@ -566,6 +615,44 @@ fn rotate_without_angle(text: &str, file: u32, at: usize) -> Option<Diagnostic> 
         .help(format!(
             "give the angle in degrees after the axis, as in `rotate {axis} 45`"
         )),
+    )
+}
+
+/// `rect xw { ... }`: the word after `rect` at `at` is not one of its
+/// planes (or there is none before the block).
+fn rect_without_plane(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    const PLANES: [&str; 3] = ["xy", "xz", "yz"];
+    let before = text[..at].trim_end();
+    let kw = before.strip_suffix("rect")?;
+    if kw.ends_with(|c: char| c.is_ascii_alphanumeric() || c == '_') {
+        return None;
+    }
+    let rest = &text[at..];
+    let len = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(rest.len());
+    let word = &rest[..len];
+    let (span, message, help) = if word.is_empty() {
+        (
+            Span::new(file, at, at + rest.chars().next().map_or(0, char::len_utf8)),
+            "`rect` without its plane".to_string(),
+            "write the plane before the block, as in `rect xz { ... }`".to_string(),
+        )
+    } else {
+        let help = match names::suggest(&word.to_ascii_lowercase(), PLANES) {
+            Some(s) => format!("did you mean `rect {s}`?"),
+            None => "write the plane before the block, as in `rect xz { ... }`".to_string(),
+        };
+        (
+            Span::new(file, at, at + len),
+            format!("`{word}` is not a plane of `rect`"),
+            help,
+        )
+    };
+    Some(
+        Diagnostic::error(Code::Syntax, span, message)
+            .label("`rect` takes a plane: `xy`, `xz` or `yz`")
+            .help(help),
     )
 }
 
