@@ -14,6 +14,7 @@ use super::diagnostics::Diagnostic;
 use super::lexical;
 use super::names;
 use super::scan::{self, MAX_EXPR_DEPTH};
+use super::source;
 
 #[derive(pest_derive::Parser)]
 #[grammar = "grammar/rtlang.pest"]
@@ -68,6 +69,11 @@ pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<
 /// pieces are parsed on all cores; the result is the same as one sequential
 /// parse, which is what runs (and reports the errors) when any piece fails.
 pub fn parse_all(text: &str, file: u32) -> Parsed {
+    let bom = source::bom_len(text);
+    if bom > 0 {
+        // Spaces in place of the mark keep every offset into the file.
+        return parse_all(&format!("{:bom$}{}", "", &text[bom..]), file);
+    }
     let failed = |errors: Vec<Diagnostic>| Parsed {
         file: File::default(),
         syntax_errors: errors,
