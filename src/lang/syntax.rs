@@ -213,7 +213,16 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
                 let at = d.span.map_or(lower.offset, |s| s.start as usize);
                 errors.push(d);
                 let item_start = text.len() - rest.trim_start().len();
-                items.extend(placeholder(text, file, item_start));
+                // An error that blames the end of the item before (`let c =
+                // cylinder {`) makes that item part of the broken one.
+                let broken = match items.last().map(Item::span) {
+                    Some(last) if at < item_start && at < last.end as usize => {
+                        items.pop();
+                        last.start as usize
+                    }
+                    _ => item_start,
+                };
+                items.extend(placeholder(text, file, broken));
                 let resume = scan::next_item(text, at.max(item_start));
                 if errors.len() >= MAX_SYNTAX_ERRORS {
                     if let Some(resume) = resume {
@@ -505,8 +514,13 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
         }
     }
     match c {
-        b'=' | b':' if starts_line && !prev.is_empty() && bytes.get(at + 1) != Some(&b'=') => {
-            let value = text[at + 1..].lines().next().unwrap_or("").trim();
+        b'=' | b':'
+            if (starts_line || is_property(prev))
+                && !prev.is_empty()
+                && bytes.get(at + 1) != Some(&b'=') =>
+        {
+            let value = text[at + 1..].lines().next().unwrap_or("");
+            let value = value.trim().trim_end_matches('}').trim_end();
             Some(
                 Diagnostic::error(
                     Code::Syntax,
@@ -604,10 +618,7 @@ fn rotate_without_angle(text: &str, file: u32, at: usize) -> Option<Diagnostic> 
     }
     let after_axis = &rest[1..];
     let word = after_axis.split_whitespace().next()?;
-    let is_property = crate::lang::properties::TABLE
-        .iter()
-        .any(|b| b.props.iter().any(|p| p.name == word));
-    if !is_property {
+    if !is_property(word) {
         return None;
     }
     let start = line_start + (line.len() - after_axis.len()) + after_axis.find(word)?;
@@ -660,6 +671,13 @@ fn rect_without_plane(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
             .label("`rect` takes a plane: `xy`, `xz` or `yz`")
             .help(help),
     )
+}
+
+/// Whether `word` is the name of a property of some block.
+fn is_property(word: &str) -> bool {
+    crate::lang::properties::TABLE
+        .iter()
+        .any(|b| b.props.iter().any(|p| p.name == word))
 }
 
 fn join_or(names: &[String]) -> String {
