@@ -2,7 +2,8 @@
 //! file of the repository, on docs/language.md's examples, and (proptest)
 //! on generated scenes with comments and blank lines sprinkled in. Meaning
 //! is compared as the evaluated scene's full `Debug` text and the list of
-//! diagnostic codes and messages.
+//! diagnostic codes and messages. Each also formats the same saved with
+//! CRLF line endings (which are kept) or with a byte-order mark (kept).
 
 mod support;
 
@@ -59,7 +60,35 @@ fn assert_formats_well(path: &Path, text: &str) -> String {
         "{}: comments lost",
         path.display()
     );
+    assert_endings_and_mark_kept(path, text, &once);
     once
+}
+
+/// The same text saved with CRLF line endings formats as `once` (its LF
+/// formatting) with CRLF endings, idempotently; with a byte-order mark in
+/// front, as `once` with the mark kept.
+fn assert_endings_and_mark_kept(path: &Path, text: &str, once: &str) {
+    let crlf = |t: &str| t.replace("\r\n", "\n").replace('\n', "\r\n");
+    let formatted = format(&crlf(text), 0).expect("the CRLF text parses");
+    assert_eq!(
+        formatted,
+        crlf(once),
+        "{}: CRLF formats otherwise than LF",
+        path.display()
+    );
+    assert_eq!(
+        format(&formatted, 0).expect("parses"),
+        formatted,
+        "{}: formatting CRLF is not idempotent",
+        path.display()
+    );
+    let marked = format!("\u{feff}{text}");
+    assert_eq!(
+        format(&marked, 0).expect("the text with a byte-order mark parses"),
+        format!("\u{feff}{once}"),
+        "{}: the byte-order mark is not kept",
+        path.display()
+    );
 }
 
 fn rt_files(dir: &Path, out: &mut Vec<PathBuf>) {

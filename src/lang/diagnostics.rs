@@ -2,12 +2,13 @@
 //! a help line, rendered as miette reports (graphical) or as JSON.
 
 use std::fmt;
+use std::sync::Arc;
 
-use miette::{LabeledSpan, NamedSource, SourceSpan};
+use miette::{LabeledSpan, MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanContents};
 use serde::Serialize;
 
 use super::codes::Code;
-use super::source::{SourceMap, Span};
+use super::source::{self, SourceMap, Span};
 
 /// How bad a diagnostic is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -98,10 +99,7 @@ impl Diagnostic {
 
     /// A miette report that renders this diagnostic with its source.
     pub fn to_report(&self, sources: &SourceMap) -> miette::Report {
-        let source = self.span.map(|span| {
-            let file = sources.file(span.file);
-            NamedSource::new(file.name.clone(), file.text.to_string())
-        });
+        let source = self.span.map(|span| Text::new(sources, span.file));
         let mut labels = Vec::new();
         let mut elsewhere = Vec::new();
         if let Some(span) = self.span {
@@ -178,11 +176,57 @@ fn to_source_span(span: Span) -> SourceSpan {
     SourceSpan::new((span.start as usize).into(), span.len())
 }
 
+/// A file's text as miette reads it, named, with the column miette shows
+/// in a report's `[file:line:column]` counted in characters like
+/// [`Diagnostic::to_json`] and the language server (miette counts bytes).
+#[derive(Debug)]
+struct Text {
+    name: String,
+    text: Arc<str>,
+}
+
+impl Text {
+    fn new(sources: &SourceMap, file: u32) -> Text {
+        let file = sources.file(file);
+        Text {
+            name: file.name.clone(),
+            text: file.text.clone(),
+        }
+    }
+}
+
+impl SourceCode for Text {
+    fn read_span<'a>(
+        &'a self,
+        span: &SourceSpan,
+        context_lines_before: usize,
+        context_lines_after: usize,
+    ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
+        let read = self
+            .text
+            .read_span(span, context_lines_before, context_lines_after)?;
+        let at = read.span().offset();
+        let line_start = self
+            .text
+            .get(..at)
+            .and_then(|t| t.rfind('\n'))
+            .map_or(0, |p| p + 1);
+        Ok(Box::new(MietteSpanContents::new_named(
+            self.name.clone(),
+            read.data(),
+            *read.span(),
+            read.line(),
+            source::column(&self.text, line_start, at),
+            read.line_count(),
+        )))
+    }
+}
+
 /// A diagnostic paired with its source text, as miette wants it.
 #[derive(Debug)]
 struct Rendered {
     diagnostic: Diagnostic,
-    source: Option<NamedSource<String>>,
+    source: Option<Text>,
     labels: Vec<LabeledSpan>,
     /// The labels that point into another file than the main span's (a
     /// call site, say), each shown as a snippet of its own file.
@@ -194,16 +238,15 @@ struct Rendered {
 #[derive(Debug)]
 struct Elsewhere {
     message: String,
-    source: NamedSource<String>,
+    source: Text,
     label: LabeledSpan,
 }
 
 impl Elsewhere {
     fn new(sources: &SourceMap, span: Span, label: &str) -> Elsewhere {
-        let file = sources.file(span.file);
         Elsewhere {
             message: label.to_string(),
-            source: NamedSource::new(file.name.clone(), file.text.to_string()),
+            source: Text::new(sources, span.file),
             label: LabeledSpan::new_primary_with_span(None, to_source_span(span)),
         }
     }

@@ -7,22 +7,51 @@
 //! expression moves to the end of its statement's line. Runs of blank lines
 //! between statements become one blank line; none is kept at the start or
 //! end of a block.
+//!
+//! A leading byte-order mark is kept. A file whose first line ends in CRLF
+//! is formatted as its LF text and written back with CRLF line endings, so
+//! it formats exactly like the same file saved with LF.
 
 use std::ops::Range;
 
+use super::ast::File;
 use super::diagnostics::Diagnostic;
 use super::pretty::{self, Trivia};
-use super::source::Span;
+use super::source::{self, Span};
 use super::{syntax, trivia};
 
 /// The formatted text of `text`, or its syntax errors (`file` is the index
 /// their spans use).
 pub fn format(text: &str, file: u32) -> Result<String, Vec<Diagnostic>> {
-    let ast = match syntax::parse_file(text, file) {
-        Ok((ast, problems)) if problems.is_empty() => ast,
-        Ok((_, problems)) => return Err(problems),
-        Err(d) => return Err(vec![*d]),
+    let bom = source::bom_len(text);
+    let body = &text[bom..];
+    if bom == 0 && !body.contains('\r') {
+        return format_lf(text, file);
+    }
+    // Errors are found in the text as it is, so their spans point into it.
+    parse(text, file)?;
+    let crlf = body.find('\n').is_some_and(|i| body[..i].ends_with('\r'));
+    let formatted = format_lf(&body.replace("\r\n", "\n"), file)?;
+    let formatted = if crlf {
+        formatted.replace('\n', "\r\n")
+    } else {
+        formatted
     };
+    Ok(format!("{}{formatted}", &text[..bom]))
+}
+
+/// The syntax tree of `text`, or its syntax errors.
+fn parse(text: &str, file: u32) -> Result<File, Vec<Diagnostic>> {
+    match syntax::parse_file(text, file) {
+        Ok((ast, problems)) if problems.is_empty() => Ok(ast),
+        Ok((_, problems)) => Err(problems),
+        Err(d) => Err(vec![*d]),
+    }
+}
+
+/// [`format`] of a text without a byte-order mark or CRLF line endings.
+fn format_lf(text: &str, file: u32) -> Result<String, Vec<Diagnostic>> {
+    let ast = parse(text, file)?;
     let mut comments = Interleave {
         text,
         comments: trivia::comments(text),

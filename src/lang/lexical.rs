@@ -1,7 +1,8 @@
 //! Token-level checks before pest sees a file, each reported where the
 //! mistake is rather than where the grammar gives up: unterminated strings
 //! and block comments at their opening, letters stuck to a number, hex
-//! colours without six digits, and unbalanced or mismatched brackets (an
+//! colours without six digits, names with a letter outside ASCII, and
+//! unbalanced or mismatched brackets (an
 //! unclosed one at its opening, with a guess from indentation of where it
 //! should close, as rustc does).
 
@@ -126,6 +127,12 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
                     brackets_ok = false;
                 }
             },
+            0x80.. => {
+                if let Some((d, end)) = non_ascii_name(text, file, i) {
+                    out.push(d);
+                    i = end - 1;
+                }
+            }
             _ => {}
         }
         i += 1;
@@ -145,6 +152,33 @@ pub fn check(text: &str, file: u32) -> Vec<Diagnostic> {
     }
     out.sort_by_key(|d| d.span.map(|s| s.start));
     out
+}
+
+/// A word holding a letter outside ASCII (`café`), at the byte `at` of
+/// that letter: the error at the whole word, and where the word ends.
+fn non_ascii_name(text: &str, file: u32, at: usize) -> Option<(Diagnostic, usize)> {
+    let in_word = |c: char| c.is_alphanumeric() || c == '_';
+    // `at` may be inside a character that is no letter: skip its bytes.
+    let letter = text.get(at..)?.chars().next().filter(|c| in_word(*c))?;
+    let start = text[..at]
+        .char_indices()
+        .rev()
+        .take_while(|(_, c)| in_word(*c))
+        .last()
+        .map_or(at, |(k, _)| k);
+    let end = text[at..]
+        .char_indices()
+        .find(|(_, c)| !in_word(*c))
+        .map_or(text.len(), |(k, _)| at + k);
+    let word = &text[start..end];
+    let d = Diagnostic::error(
+        Code::Syntax,
+        Span::new(file, start, end),
+        format!("`{word}` is not a name: `{letter}` is not an ASCII letter"),
+    )
+    .label("not a name")
+    .help("names are ASCII letters, digits and `_`; other text belongs in strings and comments");
+    Some((d, end))
 }
 
 fn is_name_byte(b: u8) -> bool {

@@ -1,5 +1,8 @@
 //! Source files of one evaluation: their text, byte spans into them, and the
 //! mapping from byte offsets to line and column.
+//!
+//! A file's text is kept as read, with a leading byte-order mark if it has
+//! one, so spans are byte offsets into the file; the mark is no column.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -42,6 +45,26 @@ impl Span {
     }
 }
 
+/// The byte-order mark some editors write at the start of a UTF-8 file.
+pub const BOM: char = '\u{feff}';
+
+/// The length in bytes of the byte-order mark `text` starts with (0 or 3).
+pub fn bom_len(text: &str) -> usize {
+    if text.starts_with(BOM) {
+        BOM.len_utf8()
+    } else {
+        0
+    }
+}
+
+/// The 0-based column in characters of byte `at` on the line of `text`
+/// that starts at byte `line_start` (a byte-order mark is not counted).
+pub fn column(text: &str, line_start: usize, at: usize) -> usize {
+    let start = line_start.max(bom_len(text)).min(at);
+    text.get(start..at)
+        .map_or(at - start, |s| s.chars().count())
+}
+
 /// One loaded source text.
 #[derive(Debug)]
 pub struct SourceFile {
@@ -54,16 +77,12 @@ pub struct SourceFile {
 }
 
 impl SourceFile {
-    /// 1-based line and column (in characters) of byte offset `at`.
+    /// 1-based line and column (in characters, not counting a byte-order
+    /// mark) of byte offset `at`.
     pub fn line_col(&self, at: usize) -> (usize, usize) {
         let at = at.min(self.text.len());
         let line = self.line_starts.partition_point(|&s| s <= at) - 1;
-        let start = self.line_starts[line];
-        let column = self
-            .text
-            .get(start..at)
-            .map_or(at - start, |s| s.chars().count());
-        (line + 1, column + 1)
+        (line + 1, column(&self.text, self.line_starts[line], at) + 1)
     }
 }
 

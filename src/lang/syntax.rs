@@ -22,6 +22,7 @@ use super::diagnostics::Diagnostic;
 use super::lexical;
 use super::names;
 use super::scan::{self, MAX_EXPR_DEPTH};
+use super::source;
 
 #[derive(pest_derive::Parser)]
 #[grammar = "grammar/rtlang.pest"]
@@ -76,6 +77,11 @@ pub fn parse_file(text: &str, file: u32) -> Result<(File, Vec<Diagnostic>), Box<
 /// pieces are parsed on all cores; the result is the same as one sequential
 /// parse, which is what runs (and reports the errors) when any piece fails.
 pub fn parse_all(text: &str, file: u32) -> Parsed {
+    let bom = source::bom_len(text);
+    if bom > 0 {
+        // Spaces in place of the mark keep every offset into the file.
+        return parse_all(&format!("{:bom$}{}", "", &text[bom..]), file);
+    }
     let failed = |errors: Vec<Diagnostic>| Parsed {
         file: File::default(),
         syntax_errors: errors,
@@ -215,7 +221,16 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
                 let at = d.span.map_or(lower.offset, |s| s.start as usize);
                 errors.push(d);
                 let item_start = text.len() - rest.trim_start().len();
-                items.extend(placeholder(text, file, item_start));
+                // An error that blames the end of the item before (`let c =
+                // cylinder {`) makes that item part of the broken one.
+                let broken = match items.last().map(Item::span) {
+                    Some(last) if at < item_start && at < last.end as usize => {
+                        items.pop();
+                        last.start as usize
+                    }
+                    _ => item_start,
+                };
+                items.extend(placeholder(text, file, broken));
                 let resume = scan::next_item(text, at.max(item_start));
                 if errors.len() >= MAX_SYNTAX_ERRORS {
                     if let Some(resume) = resume {
@@ -238,9 +253,14 @@ fn parse_recovering(text: &str, file: u32) -> Parsed {
 }
 
 /// For a `let` or `param` that failed to parse, a definition whose value
-/// is an error, so its uses give no follow-on "unknown name" errors.
+/// is an error, so its uses give no follow-on "unknown name" errors; for a
+/// `fn` whose body failed, the function with its parameters and an error
+/// as its body, so its calls give no "unknown function" errors.
 fn placeholder(text: &str, file: u32, at: usize) -> Option<Item> {
     let rest = &text[at..];
+    if rest.starts_with("fn") {
+        return fn_placeholder(text, file, at).map(Item::Fn);
+    }
     let (kw, after) = if let Some(r) = rest.strip_prefix("let") {
         ("let", r)
     } else {
@@ -268,6 +288,44 @@ fn placeholder(text: &str, file: u32, at: usize) -> Option<Item> {
     } else {
         Item::Param { name, value, span }
     })
+}
+
+/// The head `fn NAME(PARAMS)` at `at` parsed with a stand-in body; `None`
+/// when the error is in the head itself.
+fn fn_placeholder(text: &str, file: u32, at: usize) -> Option<Function> {
+    let open = at + text[at..].find('(')?;
+    let mut depth = 0usize;
+    let close = text[open..].char_indices().find_map(|(i, c)| {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            _ => {}
+        }
+        (depth == 0).then_some(open + i)
+    })?;
+    // The head keeps its offsets; `0` stands in for the body that failed.
+    let head = format!("{} = 0", &text[at..=close]);
+    let pair = Grammar::parse(Rule::one_item, &head)
+        .ok()?
+        .next()?
+        .into_inner()
+        .next()?;
+    if pair.as_rule() != Rule::fn_item {
+        return None;
+    }
+    let mut lower = Lower {
+        file,
+        offset: at,
+        diagnostics: Vec::new(),
+    };
+    let mut f = lower.function(pair);
+    let span = Span::new(file, at, close + 1);
+    f.body = Expr {
+        kind: ExprKind::Error,
+        span,
+    };
+    f.span = span;
+    Some(f)
 }
 
 /// Parses a single expression (a `-D` value), or returns its syntax errors.
@@ -389,6 +447,9 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
     if let Some(d) = rotate_without_angle(text, file, at) {
         return Some(d);
     }
+    if let Some(d) = rect_without_plane(text, file, at) {
+        return Some(d);
+    }
     let bytes = text.as_bytes();
     let word_at = |i: usize| {
         let end = (i..bytes.len())
@@ -461,8 +522,13 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
         }
     }
     match c {
-        b'=' | b':' if starts_line && !prev.is_empty() && bytes.get(at + 1) != Some(&b'=') => {
-            let value = text[at + 1..].lines().next().unwrap_or("").trim();
+        b'=' | b':'
+            if (starts_line || is_property(prev))
+                && !prev.is_empty()
+                && bytes.get(at + 1) != Some(&b'=') =>
+        {
+            let value = text[at + 1..].lines().next().unwrap_or("");
+            let value = value.trim().trim_end_matches('}').trim_end();
             Some(
                 Diagnostic::error(
                     Code::Syntax,
@@ -477,6 +543,9 @@ fn hint(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
         }
         b',' if prev.bytes().all(|b| b.is_ascii_digit() || b == b'.')
             && !prev.is_empty()
+            && text[at + 1..]
+                .trim_start_matches([' ', '\t'])
+                .starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '.')
             && [
                 "translate",
                 "scale",
@@ -557,10 +626,7 @@ fn rotate_without_angle(text: &str, file: u32, at: usize) -> Option<Diagnostic> 
     }
     let after_axis = &rest[1..];
     let word = after_axis.split_whitespace().next()?;
-    let is_property = crate::lang::properties::TABLE
-        .iter()
-        .any(|b| b.props.iter().any(|p| p.name == word));
-    if !is_property {
+    if !is_property(word) {
         return None;
     }
     let start = line_start + (line.len() - after_axis.len()) + after_axis.find(word)?;
@@ -575,6 +641,51 @@ fn rotate_without_angle(text: &str, file: u32, at: usize) -> Option<Diagnostic> 
             "give the angle in degrees after the axis, as in `rotate {axis} 45`"
         )),
     )
+}
+
+/// `rect xw { ... }`: the word after `rect` at `at` is not one of its
+/// planes (or there is none before the block).
+fn rect_without_plane(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
+    const PLANES: [&str; 3] = ["xy", "xz", "yz"];
+    let before = text[..at].trim_end();
+    let kw = before.strip_suffix("rect")?;
+    if kw.ends_with(|c: char| c.is_ascii_alphanumeric() || c == '_') {
+        return None;
+    }
+    let rest = &text[at..];
+    let len = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(rest.len());
+    let word = &rest[..len];
+    let (span, message, help) = if word.is_empty() {
+        (
+            Span::new(file, at, at + rest.chars().next().map_or(0, char::len_utf8)),
+            "`rect` without its plane".to_string(),
+            "write the plane before the block, as in `rect xz { ... }`".to_string(),
+        )
+    } else {
+        let help = match names::suggest(&word.to_ascii_lowercase(), PLANES) {
+            Some(s) => format!("did you mean `rect {s}`?"),
+            None => "write the plane before the block, as in `rect xz { ... }`".to_string(),
+        };
+        (
+            Span::new(file, at, at + len),
+            format!("`{word}` is not a plane of `rect`"),
+            help,
+        )
+    };
+    Some(
+        Diagnostic::error(Code::Syntax, span, message)
+            .label("`rect` takes a plane: `xy`, `xz` or `yz`")
+            .help(help),
+    )
+}
+
+/// Whether `word` is the name of a property of some block.
+fn is_property(word: &str) -> bool {
+    crate::lang::properties::TABLE
+        .iter()
+        .any(|b| b.props.iter().any(|p| p.name == word))
 }
 
 fn join_or(names: &[String]) -> String {

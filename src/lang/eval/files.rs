@@ -8,7 +8,7 @@ use std::sync::Arc;
 use super::Evaluator;
 use crate::lang::ast::Item;
 use crate::lang::diagnostics::Diagnostic;
-use crate::lang::source::Span;
+use crate::lang::source::{self, Span};
 use crate::lang::syntax;
 
 /// The largest scene file accepted.
@@ -98,7 +98,7 @@ impl Evaluator {
         let file = self
             .sources
             .add(path, path.display().to_string(), text.clone());
-        if text.trim().is_empty() {
+        if text[source::bom_len(&text)..].trim().is_empty() {
             let span = Span::new(file, 0, 0);
             let d = Diagnostic::error(Code::EmptyFile, span, "the scene file is empty")
                 .help("a scene needs at least one object; see docs/language.md");
