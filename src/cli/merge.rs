@@ -9,8 +9,8 @@ use clap::Args;
 use glam::Vec3;
 
 use rtlang::picture::LinearImage;
-use rtlang::render::merge::{merge, Piece};
-use rtlang::render::output::{write_image, Format};
+use rtlang::render::merge::{check_output, merge, Piece};
+use rtlang::render::output::{check_writable, write_image, Format};
 use rtlang::render::piece::PieceInfo;
 
 /// Arguments of `rtlang merge`.
@@ -41,6 +41,8 @@ pub fn run(args: &MergeArgs) -> ExitCode {
 
 fn run_merge(args: &MergeArgs) -> Result<(), miette::Report> {
     Format::from_path(&args.output).map_err(|e| miette::miette!("{e}"))?;
+    check_output(&args.output, &args.pieces)?;
+    check_writable(&args.output).map_err(|e| miette::miette!("{e}"))?;
     let mut pieces = Vec::with_capacity(args.pieces.len());
     for path in &args.pieces {
         if Format::from_path(path).ok() != Some(Format::Exr) {

@@ -23,7 +23,7 @@ pub mod syntax;
 pub mod trivia;
 
 use crate::lang::codes::Code;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::scene::Scene;
 
@@ -35,6 +35,9 @@ pub use source::{SourceMap, Span};
 pub struct Loaded {
     pub scene: Scene,
     pub warnings: Vec<miette::Report>,
+    /// Every file the scene was read from: the scene file, its includes and
+    /// its assets (what a render must not write over).
+    pub files: Vec<PathBuf>,
 }
 
 /// Parses and evaluates the scene file at `path`, with command-line
@@ -57,10 +60,13 @@ pub fn load_scene_with(path: &Path, options: &Options) -> Result<Loaded, Vec<mie
         .diagnostics
         .iter()
         .map(|d| d.to_report(&outcome.sources));
+    let files = outcome.sources.files().iter().map(|f| f.path.clone());
+    let files = files.chain(outcome.assets.iter().cloned()).collect();
     match outcome.scene {
         Some(scene) => Ok(Loaded {
             scene,
             warnings: reports.collect(),
+            files,
         }),
         None => Err(reports.collect()),
     }

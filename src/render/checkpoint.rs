@@ -14,7 +14,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::film::Film;
-use super::output::write_atomically;
+use super::output::{check_writable, same_file, write_atomically};
 use super::piece::PieceInfo;
 
 const MAGIC: &str = "rtlang-checkpoint 1";
@@ -53,9 +53,43 @@ pub enum CheckpointError {
         saved: String,
         now: String,
     },
+    #[error("checkpoint `{}` is the same file as the {what} `{}`", path.display(), other.display())]
+    #[diagnostic(
+        code(rtlang::checkpoint::clobbers),
+        help("give --checkpoint a file of its own, e.g. `render.ckpt`")
+    )]
+    Clobbers {
+        path: PathBuf,
+        what: &'static str,
+        other: PathBuf,
+    },
     #[error("checkpoint `{}` already has {saved} samples per pixel, more than the {spp} asked for", path.display())]
     #[diagnostic(code(rtlang::checkpoint::ahead), help("ask for at least {saved} spp"))]
     Ahead { path: PathBuf, saved: u32, spp: u32 },
+}
+
+/// Refuses, before a render, a checkpoint `path` that would be written over
+/// the `output` image or its sidecar or over one of the `inputs` the scene
+/// was read from, or whose folder takes no new file.
+pub fn check_path(path: &Path, output: &Path, inputs: &[PathBuf]) -> Result<(), CheckpointError> {
+    let sidecar = super::piece::sidecar_path(output);
+    let outputs = [("output", output), ("output's sidecar", sidecar.as_path())];
+    let read = inputs.iter().map(|p| ("file the scene reads", p.as_path()));
+    if let Some((what, other)) = outputs
+        .into_iter()
+        .chain(read)
+        .find(|(_, other)| same_file(path, other))
+    {
+        return Err(CheckpointError::Clobbers {
+            path: path.to_path_buf(),
+            what,
+            other: other.to_path_buf(),
+        });
+    }
+    check_writable(path).map_err(|e| CheckpointError::Write {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
 }
 
 /// Saves `film` with `header` to `path` atomically.

@@ -5,12 +5,13 @@
 //! bit-identical to a single-process render.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
 use super::options::RenderOptions;
-use super::piece::PieceInfo;
+use super::output::same_file;
+use super::piece::{sidecar_path, PieceInfo};
 
 /// One rendered piece: its file, its sidecar and its linear pixels.
 pub struct Piece {
@@ -36,6 +37,12 @@ pub enum MergeError {
         help("name the piece images (with their .json sidecars) to merge")
     )]
     Empty,
+    #[error("the merged image `{}` would be written over the piece `{}`", output.display(), piece.display())]
+    #[diagnostic(
+        code(rtlang::merge::output_is_input),
+        help("write the merged image to a file of its own; the pieces stay as they are")
+    )]
+    OutputIsInput { output: PathBuf, piece: PathBuf },
     #[error("`{}` and `{}` differ in {field}: {a} against {b}", first.display(), other.display())]
     #[diagnostic(
         code(rtlang::merge::mismatch),
@@ -129,6 +136,20 @@ pub enum MergeError {
         x: u32,
         y: u32,
     },
+}
+
+/// Refuses, before anything is read or written, an `output` that is one
+/// of the `pieces` (or its sidecar one of theirs).
+pub fn check_output(output: &Path, pieces: &[PathBuf]) -> Result<(), MergeError> {
+    let sidecar = sidecar_path(output);
+    let clobbered = |p: &&PathBuf| same_file(output, p) || same_file(&sidecar, &sidecar_path(p));
+    match pieces.iter().find(clobbered) {
+        Some(piece) => Err(MergeError::OutputIsInput {
+            output: output.to_path_buf(),
+            piece: piece.clone(),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Merges `pieces`; with `average`, several passes are combined, each
