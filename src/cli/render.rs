@@ -523,10 +523,10 @@ fn write_outputs(
     info: Option<&PieceInfo>,
 ) -> Result<(), Failure> {
     let r = film.region;
-    write_image_at_quality(output, r.width(), r.height(), &film.pixels(), jpeg_quality)
-        .map_err(fail)?;
+    let pixels = film.pixels();
+    write_image_at_quality(output, r.width(), r.height(), &pixels, jpeg_quality).map_err(fail)?;
     match info {
-        Some(info) => info.write(output).map_err(fail),
+        Some(info) => info.write(output, &pixels).map_err(fail),
         None => Ok(()),
     }
 }
