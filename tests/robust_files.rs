@@ -18,8 +18,13 @@ const GREY: &str = "lambertian(rgb(0.5, 0.5, 0.5))";
 
 /// `rtlang check SCENE`, killed (and the test failed) if it runs past 20 s.
 fn check_within_time(scene: &Path) -> Output {
+    within_time("check", scene)
+}
+
+/// `rtlang COMMAND SCENE`, killed (and the test failed) past 20 s.
+fn within_time(command: &str, scene: &Path) -> Output {
     let mut child = Command::new(RTLANG)
-        .arg("check")
+        .arg(command)
         .arg(scene)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -29,7 +34,7 @@ fn check_within_time(scene: &Path) -> Output {
     while child.try_wait().expect("waits").is_none() {
         if start.elapsed() > Duration::from_secs(20) {
             child.kill().expect("kills");
-            panic!("`rtlang check {}` hung", scene.display());
+            panic!("`rtlang {command} {}` hung", scene.display());
         }
         std::thread::sleep(Duration::from_millis(20));
     }

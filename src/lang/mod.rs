@@ -86,11 +86,17 @@ pub fn check(path: &Path, options: &Options) -> Outcome {
     outcome
 }
 
+/// The text of the scene file at `path` read by itself (to format, parse
+/// or navigate it): a regular file of at most the size a scene may have.
+pub fn read_scene_text(path: &Path) -> Result<String, crate::scene::file::ReadError> {
+    crate::scene::file::read_text(path, eval::MAX_FILE_BYTES)
+}
+
 /// Parses one file for `rtlang parse`: its canonical source, or the syntax
 /// diagnostics with their sources.
 pub fn parse_to_canonical(path: &Path) -> Result<String, (Vec<Diagnostic>, SourceMap)> {
     let mut sources = SourceMap::default();
-    let text = match std::fs::read_to_string(path) {
+    let text = match read_scene_text(path) {
         Ok(text) => text,
         Err(e) => {
             let d = Diagnostic::global(Code::Io, format!("cannot read `{}`: {e}", path.display()))

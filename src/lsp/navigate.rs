@@ -32,7 +32,7 @@ pub fn definition(uri: &Uri, doc: &Document, at: usize) -> Option<Location> {
 fn included_definition(dir: &Path, index: &Index, name: &str) -> Option<Location> {
     index.includes.iter().find_map(|(path, _)| {
         let target = std::fs::canonicalize(dir.join(path)).ok()?;
-        let text = std::fs::read_to_string(&target).ok()?;
+        let text = crate::lang::read_scene_text(&target).ok()?;
         let (ast, _) = syntax::parse_file(&text, 0).ok()?;
         let def = Index::new(&ast)
             .defs

@@ -81,6 +81,13 @@ pub fn read(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
     read_bounded(open(path)?, limit)
 }
 
+/// The UTF-8 text of the regular file at `path`, refused past `limit`
+/// bytes.
+pub fn read_text(path: &Path, limit: u64) -> Result<String, ReadError> {
+    String::from_utf8(read(path, limit)?)
+        .map_err(|e| ReadError::Io(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))
+}
+
 /// The rest of `file`, refused past `limit` bytes: read as `limit + 1` at
 /// most, whatever size the file gives (it may grow while it is read).
 pub fn read_bounded(file: File, limit: u64) -> Result<Vec<u8>, ReadError> {

@@ -36,6 +36,7 @@ use super::diagnostics::Diagnostic;
 use super::source::{SourceMap, Span};
 
 pub(crate) use builtins::Args;
+pub(crate) use files::MAX_FILE_BYTES;
 pub use math::random;
 pub(crate) use value::Value;
 
