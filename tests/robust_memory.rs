@@ -6,7 +6,8 @@
 //! fixed allowance for the program itself (set with `prlimit --as`, so an
 //! estimate too low shows as an allocation failure), and one step more is
 //! refused before rendering, with the estimate and the budget in the
-//! message. Every scene's 8×8 image charges its film too.
+//! message. Every scene's 8×8 image charges its film too, and every scene
+//! file (and OBJ file) its text.
 
 use std::process::{Command, Output};
 
@@ -27,6 +28,8 @@ const BYTES_PER_LIGHT: f64 = 1024.0;
 const BYTES_PER_SHELL: f64 = 1024.0;
 const BYTES_PER_IMAGE_PIXEL: f64 = 32.0;
 const BYTES_PER_FILM_PIXEL: f64 = 128.0;
+const BYTES_PER_SOURCE_BYTE: f64 = 40.0;
+const BYTES_PER_OBJ_BYTE: f64 = 32.0;
 /// The film of the tests' 8×8 image.
 const FILM: f64 = 64.0 * BYTES_PER_FILM_PIXEL;
 
@@ -74,13 +77,39 @@ const SIZE: &str = "render { size 8 x 8 }\n";
 const CAMERA: &str = "camera { from (0, 1, 5) at (0, 0.5, 0) }\n";
 const GREY: &str = "lambertian(rgb(0.5, 0.5, 0.5))";
 
-/// The most items of `bytes` each that fit the budget beside `others`.
-fn most(bytes: f64, others: f64) -> u64 {
-    ((BUDGET - others) / bytes).floor() as u64
+/// The charge of a scene file's text as [`render_in`] writes it.
+fn text(scene: &str) -> f64 {
+    let size = if scene.contains("render {") {
+        0
+    } else {
+        SIZE.len()
+    };
+    (size + scene.len()) as f64 * BYTES_PER_SOURCE_BYTE
 }
 
-/// Renders the largest accepted `scene(n)` and refuses `scene(n + 1)`.
-fn largest_renders(name: &str, largest: u64, scene: impl Fn(u64) -> String) {
+/// The largest `n` whose estimate, `charge(n)` beside the text of
+/// `scene(n)`, fits the budget (both grow with `n`).
+fn largest(charge: impl Fn(u64) -> f64, scene: impl Fn(u64) -> String) -> u64 {
+    let fits = |n: u64| charge(n) + text(&scene(n)) <= BUDGET;
+    let (mut low, mut high) = (0, 1);
+    while fits(high) {
+        (low, high) = (high, high * 2);
+    }
+    while high - low > 1 {
+        let mid = (low + high) / 2;
+        if fits(mid) {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    low
+}
+
+/// Renders the largest accepted `scene(n)` and refuses `scene(n + 1)`, for
+/// a scene whose objects are charged `charge(n)`.
+fn largest_renders(name: &str, charge: impl Fn(u64) -> f64, scene: impl Fn(u64) -> String) {
+    let largest = largest(charge, &scene);
     assert!(largest > 0, "{name}: nothing fits");
     assert_rendered(name, &render_capped(name, &scene(largest)));
     let over = format!("{name}-over");
@@ -97,10 +126,8 @@ fn revolve(resolution: u64, mode: &str) -> String {
 #[test]
 fn the_largest_accepted_tessellated_revolution_renders_under_its_budget() {
     // 2·r² triangles.
-    let largest = ((BUDGET - FILM) / (2.0 * BYTES_PER_TRIANGLE))
-        .sqrt()
-        .floor() as u64;
-    largest_renders("revolve", largest, |r| {
+    let charge = |r: u64| FILM + 2.0 * (r * r) as f64 * BYTES_PER_TRIANGLE;
+    largest_renders("revolve", charge, |r| {
         format!("{CAMERA}{}", revolve(r, "mesh"))
     });
 }
@@ -109,13 +136,17 @@ fn the_largest_accepted_tessellated_revolution_renders_under_its_budget() {
 fn the_most_analytic_shells_accepted_render_under_their_budget() {
     // The language allows 100000 pieces a revolution; copies reach the budget.
     let each = 100_000.0 * BYTES_PER_SHELL + BYTES_PER_PRIMITIVE;
-    largest_renders("shells", most(each, FILM), |n| {
-        format!(
-            "{CAMERA}repeat i in 0..{n} {{\n{}}}\n",
-            revolve(100_000, "analytic")
-                .replace("resolution", "translate (i * 0.01, 0, 0)\n  resolution")
-        )
-    });
+    largest_renders(
+        "shells",
+        |n| FILM + n as f64 * each,
+        |n| {
+            format!(
+                "{CAMERA}repeat i in 0..{n} {{\n{}}}\n",
+                revolve(100_000, "analytic")
+                    .replace("resolution", "translate (i * 0.01, 0, 0)\n  resolution")
+            )
+        },
+    );
 }
 
 fn spheres(count: u64, material: &str) -> String {
@@ -127,21 +158,22 @@ fn spheres(count: u64, material: &str) -> String {
 
 #[test]
 fn the_largest_accepted_repeat_renders_under_its_budget() {
-    let largest = most(BYTES_PER_PRIMITIVE, FILM);
-    largest_renders("repeat", largest, |n| spheres(n, GREY));
+    let charge = |n: u64| FILM + n as f64 * BYTES_PER_PRIMITIVE;
+    largest_renders("repeat", charge, |n| spheres(n, GREY));
 }
 
 #[test]
 fn the_longest_accepted_light_list_renders_under_its_budget() {
     // Every sphere emits: one light entry each, sampled (the default `nee`).
-    let largest = most(BYTES_PER_PRIMITIVE, FILM);
-    largest_renders("lights", largest, |n| spheres(n, "light(rgb(1, 1, 1))"));
+    let charge = |n: u64| FILM + n as f64 * BYTES_PER_PRIMITIVE;
+    largest_renders("lights", charge, |n| spheres(n, "light(rgb(1, 1, 1))"));
 }
 
 #[test]
 fn the_most_accepted_media_render_under_their_budget() {
     // The medium and its boundary are each charged as a primitive.
-    largest_renders("media", most(2.0 * BYTES_PER_PRIMITIVE, FILM), |n| {
+    let charge = |n: u64| FILM + n as f64 * 2.0 * BYTES_PER_PRIMITIVE;
+    largest_renders("media", charge, |n| {
         format!(
             "{CAMERA}repeat i in 0..{n} {{\n\
              medium {{ boundary sphere {{ center (i * 1e-4, 0, 0) radius 0.5 }} density 0.1 color rgb(1, 1, 1) }}\n}}\n"
@@ -176,9 +208,11 @@ fn the_most_accepted_emitting_mesh_copies_render_under_their_budget() {
     // a light entry (with its light-tree share) for each.
     const QUADS: u64 = 1000;
     let dir = scratch::folder("memory-mesh");
-    let obj = scratch::write(&dir, "strip.obj", &strip(QUADS));
+    let text = strip(QUADS);
+    let obj = scratch::write(&dir, "strip.obj", &text);
+    // The file is charged once as it is loaded, its triangles per placement.
+    let loading = text.len() as f64 * BYTES_PER_OBJ_BYTE;
     let each = 2.0 * QUADS as f64 * (BYTES_PER_TRIANGLE + BYTES_PER_LIGHT);
-    let largest = most(each, FILM);
     let scene = |n: u64| {
         format!(
             "{CAMERA}repeat i in 0..{n} {{\n\
@@ -186,6 +220,7 @@ fn the_most_accepted_emitting_mesh_copies_render_under_their_budget() {
             obj.display()
         )
     };
+    let largest = largest(|n| FILM + loading + n as f64 * each, scene);
     assert_rendered("mesh", &render_in(&dir, &scene(largest)));
     assert_refused("mesh", &render_in(&dir, &scene(largest + 1)));
 }
@@ -193,29 +228,28 @@ fn the_most_accepted_emitting_mesh_copies_render_under_their_budget() {
 #[test]
 fn the_largest_accepted_texture_image_renders_under_its_budget() {
     let dir = scratch::folder("memory-image");
-    let side = ((BUDGET - FILM - BYTES_PER_PRIMITIVE) / BYTES_PER_IMAGE_PIXEL)
-        .sqrt()
-        .floor() as u32;
-    let scene = |side: u32| {
-        let png = dir.join(format!("{side}.png"));
-        image::RgbImage::from_pixel(side, side, image::Rgb([90, 120, 200]))
-            .save(&png)
-            .expect("writes the texture");
+    let png = |side: u64| dir.join(format!("{side}.png"));
+    let scene = |side: u64| {
         format!(
             "{CAMERA}rect xy {{ from (-1, 0) to (1, 2) at 0 material lambertian(image(\"{}\")) }}\n",
-            png.display()
+            png(side).display()
         )
     };
+    let pixels = |side: u64| (side * side) as f64 * BYTES_PER_IMAGE_PIXEL;
+    let side = largest(|s| FILM + BYTES_PER_PRIMITIVE + pixels(s), scene);
+    for s in [side, side + 1] {
+        image::RgbImage::from_pixel(s as u32, s as u32, image::Rgb([90, 120, 200]))
+            .save(png(s))
+            .expect("writes the texture");
+    }
     assert_rendered("image", &render_in(&dir, &scene(side)));
     assert_refused("image", &render_in(&dir, &scene(side + 1)));
 }
 
 #[test]
 fn the_largest_accepted_film_renders_under_its_budget() {
-    let side = ((BUDGET - BYTES_PER_PRIMITIVE) / BYTES_PER_FILM_PIXEL)
-        .sqrt()
-        .floor() as u64;
-    largest_renders("film", side, |w| {
+    let charge = |w: u64| BYTES_PER_PRIMITIVE + (w * w) as f64 * BYTES_PER_FILM_PIXEL;
+    largest_renders("film", charge, |w| {
         format!("render {{ size {w} x {w} }}\n{CAMERA}sphere {{ radius 0.5 material {GREY} }}\n")
     });
 }

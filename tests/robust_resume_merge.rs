@@ -2,7 +2,8 @@
 //! edited: each is refused with a diagnostic and exit 1, never a panic or
 //! an abort, and no image is written. A checkpoint with a NaN sum, more
 //! samples kept than taken, trailing bytes, missing bytes, a wrong magic
-//! line or a header of the wrong shape; sidecars claiming a 4·10⁹ × 4·10⁹
+//! line, the magic line of the format before checksums, a header of the
+//! wrong shape or one flipped bit; sidecars claiming a 4·10⁹ × 4·10⁹
 //! image, zero samples, wrongly typed or missing fields, a region outside
 //! the image, or passes whose spp overflow a u32 when added.
 
@@ -42,29 +43,47 @@ fn damaged_checkpoints_are_refused() {
     let good = std::fs::read(&ck).expect("checkpoint written");
     let start = pixel_data_start(&good);
     let header = String::from_utf8_lossy(&good[..start]).to_string();
-    assert_eq!(good.len() - start, 32 * 24 * 20, "3 f32 + 2 u32 per pixel");
+    let data = &good[start..good.len() - 4];
+    assert_eq!(data.len(), 32 * 24 * 20, "3 f32 + 2 u32 per pixel");
+    // Each damage below but the flipped bit comes with a checksum made for
+    // it, so that the check behind the checksum is the one that refuses it.
+    let sealed = |mut body: Vec<u8>| {
+        let sum = crc32fast::hash(&body);
+        body.extend_from_slice(&sum.to_le_bytes());
+        body
+    };
+    let body = good[..good.len() - 4].to_vec();
 
-    let mut nan_sum = good.clone();
+    let mut nan_sum = body.clone();
     nan_sum[start + 4..start + 8].copy_from_slice(&f32::NAN.to_le_bytes());
-    let mut kept_more = good.clone();
+    let mut kept_more = body.clone();
     kept_more[start + 12..start + 16].copy_from_slice(&99u32.to_le_bytes());
-    let mut trailing = good.clone();
+    let mut trailing = body.clone();
     trailing.extend_from_slice(b"more");
-    let truncated = good[..good.len() - 7].to_vec();
+    let truncated = body[..body.len() - 7].to_vec();
     let wrong_magic = [b"rtlang-checkpoint 9".as_slice(), &good[19..]].concat();
+    let older = [b"rtlang-checkpoint 1".as_slice(), &good[19..]].concat();
     let misshapen = [
         header.lines().next().expect("magic").as_bytes(),
         b"\n{\"piece\": {\"scene\": 7}, \"first_sample\": \"x\"}\n",
-        &good[start..],
+        &body[start..],
     ]
     .concat();
-    let cases: [(&str, &[u8], &str); 6] = [
-        ("NaN sum", &nan_sum, "corrupt pixel data at pixel 0"),
-        ("kept > taken", &kept_more, "99 kept of 2 taken"),
-        ("trailing bytes", &trailing, "longer than its region"),
-        ("truncated", &truncated, "truncated pixel data"),
+    let mut flipped = good.clone();
+    flipped[start + 100] ^= 0x08;
+    let cases: [(&str, &[u8], &str); 8] = [
+        ("NaN sum", &sealed(nan_sum), "corrupt pixel data at pixel 0"),
+        ("kept > taken", &sealed(kept_more), "99 kept of 2 taken"),
+        (
+            "trailing bytes",
+            &sealed(trailing),
+            "longer than its region",
+        ),
+        ("truncated", &sealed(truncated), "truncated pixel data"),
         ("wrong magic", &wrong_magic, "not an rtlang checkpoint"),
-        ("misshapen header", &misshapen, "invalid type"),
+        ("older", &older, "written by an older rtlang"),
+        ("misshapen header", &sealed(misshapen), "invalid type"),
+        ("flipped bit", &flipped, "its checksum does not match"),
     ];
     for (what, bytes, needle) in cases {
         std::fs::write(&ck, bytes).expect("write damaged checkpoint");

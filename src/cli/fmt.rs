@@ -82,7 +82,7 @@ fn stdin(check: bool) -> bool {
 /// Formats one file in place (through a temporary file and a rename, so it
 /// is never half written); with `check`, lists it if it would change.
 fn one(path: &Path, check: bool) -> bool {
-    let text = match std::fs::read_to_string(path) {
+    let text = match rtlang::lang::read_scene_text(path) {
         Ok(text) => text,
         Err(e) => {
             errln!("error: cannot read `{}`: {e}", path.display());

@@ -1,17 +1,14 @@
 //! `rtlang merge PIECES... -o OUT [--average]`: reads linear EXR pieces and
-//! their sidecars, joins them with `render::merge`, writes the image (PNG,
+//! their sidecars with `render::merge`, joins them, writes the image (PNG,
 //! EXR or PPM by extension) and its sidecar.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use glam::Vec3;
 
-use rtlang::picture::LinearImage;
-use rtlang::render::merge::{merge, Piece};
-use rtlang::render::output::{write_image, Format};
-use rtlang::render::piece::PieceInfo;
+use rtlang::render::merge::{check_output, merge, read_piece};
+use rtlang::render::output::{check_writable, write_image, Format};
 
 /// Arguments of `rtlang merge`.
 #[derive(Args)]
@@ -41,36 +38,19 @@ pub fn run(args: &MergeArgs) -> ExitCode {
 
 fn run_merge(args: &MergeArgs) -> Result<(), miette::Report> {
     Format::from_path(&args.output).map_err(|e| miette::miette!("{e}"))?;
-    let mut pieces = Vec::with_capacity(args.pieces.len());
-    for path in &args.pieces {
-        if Format::from_path(path).ok() != Some(Format::Exr) {
-            return Err(miette::miette!(
-                help = "render tiles to .exr: PNG and PPM are rounded to 8 bits",
-                "`{}` is not an EXR image",
-                path.display()
-            ));
-        }
-        let info = PieceInfo::read(path).map_err(|e| {
-            miette::miette!(
-                help = "every piece needs the .json sidecar `rtlang render` writes beside it",
-                "{e}"
-            )
-        })?;
-        let image = LinearImage::load(path)?;
-        pieces.push(Piece {
-            path: path.clone(),
-            info,
-            width: image.width,
-            height: image.height,
-            pixels: image.pixels.into_iter().map(Vec3::from_array).collect(),
-        });
-    }
+    check_output(&args.output, &args.pieces)?;
+    check_writable(&args.output).map_err(|e| miette::miette!("{e}"))?;
+    let pieces = args
+        .pieces
+        .iter()
+        .map(|path| read_piece(path))
+        .collect::<Result<Vec<_>, _>>()?;
     let merged = merge(&pieces, args.average)?;
     let (w, h) = (merged.info.width, merged.info.height);
     write_image(&args.output, w, h, &merged.pixels).map_err(|e| miette::miette!("{e}"))?;
     merged
         .info
-        .write(&args.output)
+        .write(&args.output, &merged.pixels)
         .map_err(|e| miette::miette!("{e}"))?;
     errln!(
         "merged {} pieces into {} ({w}×{h}, {} spp)",

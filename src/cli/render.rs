@@ -16,7 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rtlang::geometry::World;
 use rtlang::render::checkpoint::{self, Header};
 use rtlang::render::lights::LightSelection;
-use rtlang::render::output::{write_image_at_quality, Format, JPEG_QUALITY};
+use rtlang::render::output::{self, write_image_at_quality, Format, JPEG_QUALITY};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
 use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
@@ -226,6 +226,12 @@ fn parse_crop(s: &str) -> Result<Crop, String> {
     })
 }
 
+/// Prints a diagnostic of the library's.
+fn report(e: impl miette::Diagnostic + Send + Sync + 'static) -> Failure {
+    errln!("{:?}", miette::Report::new(e));
+    Failure::Error
+}
+
 fn fail(message: impl std::fmt::Display) -> Failure {
     errln!("error: {message}");
     Failure::Error
@@ -298,6 +304,10 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
     for w in &loaded.warnings {
         errln!("{w:?}");
     }
+    output::check_writable(&output).map_err(fail)?;
+    if let Some(path) = &checkpoint_path {
+        checkpoint::check_path(path, &output, &loaded.files).map_err(report)?;
+    }
     let scene = loaded.scene;
     let options = options_for(args, &scene.settings)?;
     let region = options.region().map_err(fail)?;
@@ -317,10 +327,7 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
     };
     let mut film = match &checkpoint_path {
         Some(path) if args.resume && path.exists() => {
-            checkpoint::load(path, &header).map_err(|e| {
-                errln!("{:?}", miette::Report::new(e));
-                Failure::Error
-            })?
+            checkpoint::load(path, &header).map_err(report)?
         }
         _ => Film::new(region),
     };
@@ -516,10 +523,10 @@ fn write_outputs(
     info: Option<&PieceInfo>,
 ) -> Result<(), Failure> {
     let r = film.region;
-    write_image_at_quality(output, r.width(), r.height(), &film.pixels(), jpeg_quality)
-        .map_err(fail)?;
+    let pixels = film.pixels();
+    write_image_at_quality(output, r.width(), r.height(), &pixels, jpeg_quality).map_err(fail)?;
     match info {
-        Some(info) => info.write(output).map_err(fail),
+        Some(info) => info.write(output, &pixels).map_err(fail),
         None => Ok(()),
     }
 }

@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 use std::time::SystemTime;
 
 use crate::scene::mesh::MeshData;
-use crate::scene::obj::{load_obj, ObjError};
+use crate::scene::obj::{load_obj_within, ObjError};
 use crate::scene::{image::ImageLoadError, ImageData};
 
 /// A mesh as loaded: its data and the loader's warnings.
@@ -60,10 +60,11 @@ impl AssetCache {
         cached(&self.images, path, || ImageData::load(path).map(Arc::new))
     }
 
-    /// The mesh at `path`, loaded once per modification.
-    pub fn mesh(&self, path: &Path) -> Result<LoadedMesh, ObjError> {
+    /// The mesh at `path`, loaded once per modification from a file of at
+    /// most `limit` bytes.
+    pub fn mesh(&self, path: &Path, limit: u64) -> Result<LoadedMesh, ObjError> {
         cached(&self.meshes, path, || {
-            load_obj(path).map(|l| (Arc::new(l.mesh), l.warnings.into()))
+            load_obj_within(path, limit).map(|l| (Arc::new(l.mesh), l.warnings.into()))
         })
     }
 }

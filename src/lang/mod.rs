@@ -23,7 +23,7 @@ pub mod syntax;
 pub mod trivia;
 
 use crate::lang::codes::Code;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::scene::Scene;
 
@@ -35,6 +35,9 @@ pub use source::{SourceMap, Span};
 pub struct Loaded {
     pub scene: Scene,
     pub warnings: Vec<miette::Report>,
+    /// Every file the scene was read from: the scene file, its includes and
+    /// its assets (what a render must not write over).
+    pub files: Vec<PathBuf>,
 }
 
 /// Parses and evaluates the scene file at `path`, with command-line
@@ -57,10 +60,13 @@ pub fn load_scene_with(path: &Path, options: &Options) -> Result<Loaded, Vec<mie
         .diagnostics
         .iter()
         .map(|d| d.to_report(&outcome.sources));
+    let files = outcome.sources.files().iter().map(|f| f.path.clone());
+    let files = files.chain(outcome.assets.iter().cloned()).collect();
     match outcome.scene {
         Some(scene) => Ok(Loaded {
             scene,
             warnings: reports.collect(),
+            files,
         }),
         None => Err(reports.collect()),
     }
@@ -80,11 +86,17 @@ pub fn check(path: &Path, options: &Options) -> Outcome {
     outcome
 }
 
+/// The text of the scene file at `path` read by itself (to format, parse
+/// or navigate it): a regular file of at most the size a scene may have.
+pub fn read_scene_text(path: &Path) -> Result<String, crate::scene::file::ReadError> {
+    crate::scene::file::read_text(path, eval::MAX_FILE_BYTES)
+}
+
 /// Parses one file for `rtlang parse`: its canonical source, or the syntax
 /// diagnostics with their sources.
 pub fn parse_to_canonical(path: &Path) -> Result<String, (Vec<Diagnostic>, SourceMap)> {
     let mut sources = SourceMap::default();
-    let text = match std::fs::read_to_string(path) {
+    let text = match read_scene_text(path) {
         Ok(text) => text,
         Err(e) => {
             let d = Diagnostic::global(Code::Io, format!("cannot read `{}`: {e}", path.display()))

@@ -1,16 +1,19 @@
-//! Joining rendered pieces into one image: tiles of one pass are placed by
+//! Reading rendered pieces (EXR by content, tied to their sidecars by a
+//! hash of the pixels) and joining them into one image: tiles of one pass are placed by
 //! their pixel bounds (refusing pieces of another scene, size, seed,
-//! sampler, depth, light selection or frame, overlaps and gaps); several passes are averaged weighted by their
+//! sampler, depth, light selection, clamp, noise target or frame, overlaps
+//! and gaps); several passes are averaged weighted by their
 //! samples per pixel. Tiles of a single pass are copied, so the result is
 //! bit-identical to a single-process render.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
 use super::options::RenderOptions;
-use super::piece::PieceInfo;
+use super::output::same_file;
+use super::piece::{pixels_digest, sidecar_path, PieceInfo};
 
 /// One rendered piece: its file, its sidecar and its linear pixels.
 pub struct Piece {
@@ -36,11 +39,35 @@ pub enum MergeError {
         help("name the piece images (with their .json sidecars) to merge")
     )]
     Empty,
+    #[error("the merged image `{}` would be written over the piece `{}`", output.display(), piece.display())]
+    #[diagnostic(
+        code(rtlang::merge::output_is_input),
+        help("write the merged image to a file of its own; the pieces stay as they are")
+    )]
+    OutputIsInput { output: PathBuf, piece: PathBuf },
+    #[error("`{}` is {found}, not an EXR image", path.display())]
+    #[diagnostic(
+        code(rtlang::merge::format),
+        help("render tiles to .exr: PNG and PPM are rounded to 8 bits and sRGB-encoded")
+    )]
+    NotExr { path: PathBuf, found: String },
+    #[error("cannot read the piece `{}`: {message}", path.display())]
+    #[diagnostic(
+        code(rtlang::merge::read),
+        help("every piece is an EXR image written by `rtlang render`")
+    )]
+    Read { path: PathBuf, message: String },
+    #[error("the pixels of `{}` are not the ones its sidecar describes", path.display())]
+    #[diagnostic(
+        code(rtlang::merge::pixels),
+        help("each .json sidecar must be the one written with its image; render the piece again")
+    )]
+    Pixels { path: PathBuf },
     #[error("`{}` and `{}` differ in {field}: {a} against {b}", first.display(), other.display())]
     #[diagnostic(
         code(rtlang::merge::mismatch),
         help(
-            "every piece must come from the same scene file, defines, frame, size, seed, sampler, depth and light selection"
+            "every piece must come from the same scene file, defines, frame, size, seed, sampler, depth, light selection, clamp and noise target"
         )
     )]
     Mismatch {
@@ -131,6 +158,71 @@ pub enum MergeError {
     },
 }
 
+/// Bytes an EXR piece may hold per pixel of its sidecar's region
+/// (uncompressed RGBA f32 is 16), beside its headers' allowance.
+const PIECE_BYTES_PER_PIXEL: u64 = 16;
+const PIECE_ALLOWANCE: u64 = 1 << 20;
+
+/// Reads the piece at `path`: its sidecar (of this version), then the
+/// image, which must decode as EXR whatever its name and hold the pixels
+/// whose hash the sidecar gives.
+pub fn read_piece(path: &Path) -> Result<Piece, MergeError> {
+    let info = PieceInfo::read(path).map_err(|e| MergeError::Sidecar {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let read = |message: String| MergeError::Read {
+        path: path.to_path_buf(),
+        message,
+    };
+    let c = info.crop();
+    let pixels = u64::from(c.x1.saturating_sub(c.x0)) * u64::from(c.y1.saturating_sub(c.y0));
+    let limit = pixels
+        .saturating_mul(PIECE_BYTES_PER_PIXEL)
+        .saturating_add(PIECE_ALLOWANCE);
+    let bytes = crate::scene::file::read(path, limit).map_err(|e| read(e.to_string()))?;
+    let format = image::guess_format(&bytes).ok();
+    if format != Some(image::ImageFormat::OpenExr) {
+        return Err(MergeError::NotExr {
+            path: path.to_path_buf(),
+            found: format.map_or_else(
+                || "of no image format known".into(),
+                |f| format!("a {f:?} image"),
+            ),
+        });
+    }
+    let decoded = image::load_from_memory_with_format(&bytes, image::ImageFormat::OpenExr)
+        .map_err(|e| read(e.to_string()))?
+        .to_rgb32f();
+    let digest = pixels_digest(decoded.pixels().map(|p| p.0));
+    if info.pixels.as_deref() != Some(digest.as_str()) {
+        return Err(MergeError::Pixels {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(Piece {
+        path: path.to_path_buf(),
+        info,
+        width: decoded.width(),
+        height: decoded.height(),
+        pixels: decoded.pixels().map(|p| Vec3::from_array(p.0)).collect(),
+    })
+}
+
+/// Refuses, before anything is read or written, an `output` that is one
+/// of the `pieces` (or its sidecar one of theirs).
+pub fn check_output(output: &Path, pieces: &[PathBuf]) -> Result<(), MergeError> {
+    let sidecar = sidecar_path(output);
+    let clobbered = |p: &&PathBuf| same_file(output, p) || same_file(&sidecar, &sidecar_path(p));
+    match pieces.iter().find(clobbered) {
+        Some(piece) => Err(MergeError::OutputIsInput {
+            output: output.to_path_buf(),
+            piece: piece.clone(),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Merges `pieces`; with `average`, several passes are combined, each
 /// weighted by its spp.
 pub fn merge(pieces: &[Piece], average: bool) -> Result<Merged, MergeError> {
@@ -178,8 +270,14 @@ pub fn merge(pieces: &[Piece], average: bool) -> Result<Merged, MergeError> {
 
 fn check_same(first: &Piece, p: &Piece) -> Result<(), MergeError> {
     let (a, b) = (&first.info, &p.info);
-    let fields: [(&'static str, String, String); 7] = [
+    let fields: [(&'static str, String, String); 9] = [
         ("scene", a.scene.clone(), b.scene.clone()),
+        ("clamp", format!("{:?}", a.clamp), format!("{:?}", b.clamp)),
+        (
+            "noise target",
+            format!("{:?}", a.noise),
+            format!("{:?}", b.noise),
+        ),
         (
             "image size",
             format!("{}×{}", a.width, a.height),

@@ -1,7 +1,8 @@
 //! Writing rendered images: PNG (8-bit sRGB), JPEG (sRGB, quality 92 unless
 //! asked otherwise, for pictures that must stay small on disk), PPM (plain P3, as the seed wrote)
 //! and OpenEXR (linear f32), chosen by the file extension, written to a
-//! temporary file beside the target and renamed over it only when complete.
+//! temporary file of a random name beside the target and renamed over it
+//! only when complete; the folder is checked before a render starts.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -92,31 +93,90 @@ pub fn write_image_at_quality(
 
 /// Writes a file through `fill` into a temporary file beside `path`, synced
 /// and renamed over `path` only when complete: on any failure `path` keeps
-/// its old content and the temporary file is removed.
+/// its old content and the temporary file is removed. The temporary file
+/// has a random name and is created exclusively (`O_EXCL`), so nothing
+/// planted at a name known in advance (a symlink to another file) is
+/// followed or overwritten.
 pub fn write_atomically(
     path: &Path,
-    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), Box<dyn std::error::Error>>,
+    fill: impl FnOnce(&mut BufWriter<&File>) -> Result<(), Box<dyn std::error::Error>>,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let temp = temp_path(path);
-    let result = (|| -> Result<(), Box<dyn std::error::Error>> {
-        let mut w = BufWriter::new(File::create(&temp)?);
-        fill(&mut w)?;
-        let file = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        std::fs::rename(&temp, path)?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temp);
-    }
-    result
+    let temp = temp_beside(path)?;
+    let mut w = BufWriter::new(temp.as_file());
+    fill(&mut w)?;
+    w.flush()?;
+    drop(w);
+    temp.as_file().sync_all()?;
+    temp.persist(path)?;
+    Ok(())
 }
 
-fn temp_path(path: &Path) -> PathBuf {
+/// A new empty file of a random name in `path`'s folder, removed when
+/// dropped unless persisted. On unix it is created readable as a plain
+/// `File::create` would make it (0666 less the umask), not private.
+fn temp_beside(path: &Path) -> std::io::Result<tempfile::NamedTempFile> {
     let name = path
         .file_name()
         .map_or_else(|| "image".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder.tempfile_in(folder_of(path))
+}
+
+/// The folder a file `path` is written in (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    }
+}
+
+/// Checks, before anything is rendered, that a file can be written at
+/// `path`: its folder exists and takes a new file (one is created there and
+/// removed), and `path` is not a folder.
+pub fn check_writable(path: &Path) -> Result<(), OutputError> {
+    let fail = |message: String| OutputError::Write {
+        path: path.display().to_string(),
+        message,
+    };
+    if path.is_dir() {
+        return Err(fail("it is a folder".into()));
+    }
+    let folder = folder_of(path);
+    temp_beside(path).map(drop).map_err(|e| {
+        fail(format!(
+            "its folder `{}` does not take a new file: {e}",
+            folder.display()
+        ))
+    })
+}
+
+/// Whether `a` and `b` name the same file: for two existing files on unix,
+/// the same device and inode (hard links too); otherwise the same canonical
+/// path (a file not written yet by its folder's canonical path and name).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+        use std::os::unix::fs::MetadataExt;
+        return (x.dev(), x.ino()) == (y.dev(), y.ino());
+    }
+    match (canonical(a), canonical(b)) {
+        (Some(a), Some(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+fn canonical(path: &Path) -> Option<PathBuf> {
+    std::fs::canonicalize(path).ok().or_else(|| {
+        let folder = std::fs::canonicalize(folder_of(path)).ok()?;
+        Some(folder.join(path.file_name()?))
+    })
 }
 
 fn encode(

@@ -1,22 +1,31 @@
 //! What a rendered piece is: the JSON sidecar `IMAGE.json` written beside
 //! every image (`tile.exr` → `tile.exr.json`) naming the scene, the full
-//! image size, the pixel bounds, seed, sampler, depth, light selection, pass
-//! and samples per pixel, so that `rtlang merge` can check that pieces
-//! belong together.
+//! image size, the pixel bounds, every setting that changes the pixels
+//! (seed, sampler, depth, light selection, clamp, noise target, pass), the
+//! samples per pixel and a hash of the image's pixels, so that `rtlang
+//! merge` can check that pieces belong together and each sidecar to its
+//! image.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::lights::LightSelection;
 use super::options::{Crop, RenderOptions};
 use crate::scene::digest::Fnv;
 use crate::scene::Scene;
 
+/// The version of the sidecar and checkpoint header's fields: pieces of
+/// another version are refused (an older one lacks settings that change
+/// the pixels, so it cannot be told apart from another render).
+pub const PIECE_FORMAT: u32 = 2;
+
 /// The sidecar of one rendered image.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PieceInfo {
+    /// [`PIECE_FORMAT`] when it was written.
+    pub format: u32,
     /// Identity of the evaluated scene (see [`scene_identity`]).
     pub scene: String,
     pub width: u32,
@@ -24,16 +33,16 @@ pub struct PieceInfo {
     /// Pixel bounds `[x0, x1, y0, y1]` (half-open) of this piece.
     pub region: [u32; 4],
     pub seed: u64,
-    /// The sampler's name (`sobol`, `independent`); a sidecar without the
-    /// field was rendered by the independent sampler.
-    #[serde(default = "independent")]
+    /// The sampler's name (`sobol`, `independent`).
     pub sampler: String,
     pub max_depth: u32,
     /// How lights are chosen (`tree`, `power`), or `none` when no light is
-    /// sampled (`--integrator path`); a sidecar without the field was
-    /// rendered by the default, the tree.
-    #[serde(default = "tree")]
+    /// sampled (`--integrator path`).
     pub light_selection: String,
+    /// The cap on each sample's radiance (`--clamp`), if any.
+    pub clamp: Option<f32>,
+    /// The adaptive sampling's noise target (`--noise`), if any.
+    pub noise: Option<f32>,
     /// The animation frame the scene was evaluated at.
     pub frame: f64,
     pub pass: u32,
@@ -42,6 +51,10 @@ pub struct PieceInfo {
     /// Samples per pixel every pixel reached (less than `spp` when the
     /// render was interrupted).
     pub spp_reached: u32,
+    /// The [`pixels_digest`] of the image written with the sidecar (none
+    /// in a checkpoint's header, which has no image).
+    #[serde(default)]
+    pub pixels: Option<String>,
 }
 
 /// Why a sidecar could not be read or written.
@@ -49,6 +62,13 @@ pub struct PieceInfo {
 pub enum PieceError {
     #[error("cannot read `{}`: {message}", path.display())]
     Read { path: PathBuf, message: String },
+    #[error(
+        "`{}` was written by another version of rtlang (sidecar format {found}, \
+         this one reads {PIECE_FORMAT}): it does not record every setting that \
+         changes the pixels; render the piece again",
+        path.display()
+    )]
+    Format { path: PathBuf, found: u32 },
     #[error("cannot write `{}`: {message}", path.display())]
     Write { path: PathBuf, message: String },
 }
@@ -63,6 +83,7 @@ impl PieceInfo {
         spp_reached: u32,
     ) -> PieceInfo {
         PieceInfo {
+            format: PIECE_FORMAT,
             scene: scene_identity(scene),
             width: options.width,
             height: options.height,
@@ -71,10 +92,13 @@ impl PieceInfo {
             sampler: options.sampler.name().to_string(),
             max_depth: options.max_depth,
             light_selection: light_selection(options).to_string(),
+            clamp: options.clamp,
+            noise: options.noise,
             frame,
             pass: options.pass,
             spp: options.spp,
             spp_reached,
+            pixels: None,
         }
     }
 
@@ -88,21 +112,48 @@ impl PieceInfo {
         self.spp_reached >= self.spp
     }
 
-    /// Reads the sidecar of `image`.
+    /// Reads the sidecar of `image` (a regular file of at most
+    /// [`MAX_SIDECAR_BYTES`]), refusing one of another format.
     pub fn read(image: &Path) -> Result<PieceInfo, PieceError> {
         let path = sidecar_path(image);
         let err = |message: String| PieceError::Read {
             path: path.clone(),
             message,
         };
-        let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
-        serde_json::from_str(&text).map_err(|e| err(e.to_string()))
+        let bytes =
+            crate::scene::file::read(&path, MAX_SIDECAR_BYTES).map_err(|e| err(e.to_string()))?;
+        PieceInfo::parse(&bytes).map_err(|e| match e {
+            Parsed::Format(found) => PieceError::Format {
+                path: path.clone(),
+                found,
+            },
+            Parsed::Json(e) => err(e.to_string()),
+        })
     }
 
-    /// Writes the sidecar of `image` atomically.
-    pub fn write(&self, image: &Path) -> Result<(), PieceError> {
+    /// The piece described by the JSON `bytes`, if of [`PIECE_FORMAT`].
+    pub fn parse(bytes: &[u8]) -> Result<PieceInfo, Parsed> {
+        #[derive(Deserialize)]
+        struct Version {
+            #[serde(default)]
+            format: u32,
+        }
+        let version: Version = serde_json::from_slice(bytes).map_err(Parsed::Json)?;
+        if version.format != PIECE_FORMAT {
+            return Err(Parsed::Format(version.format));
+        }
+        serde_json::from_slice(bytes).map_err(Parsed::Json)
+    }
+
+    /// Writes the sidecar of `image`, whose pixels are `pixels`,
+    /// atomically.
+    pub fn write(&self, image: &Path, pixels: &[Vec3]) -> Result<(), PieceError> {
         let path = sidecar_path(image);
-        let text = serde_json::to_string_pretty(self).map_err(|e| PieceError::Write {
+        let info = PieceInfo {
+            pixels: Some(pixels_digest(pixels.iter().map(|p| p.to_array()))),
+            ..self.clone()
+        };
+        let text = serde_json::to_string_pretty(&info).map_err(|e| PieceError::Write {
             path: path.clone(),
             message: e.to_string(),
         })?;
@@ -115,8 +166,28 @@ impl PieceInfo {
     }
 }
 
-fn tree() -> String {
-    LightSelection::Tree.name().to_string()
+/// Why JSON did not give a [`PieceInfo`].
+#[derive(Debug)]
+pub enum Parsed {
+    /// Another format version (0 when the field is missing).
+    Format(u32),
+    Json(serde_json::Error),
+}
+
+/// The most bytes a sidecar is read with (one is a few hundred).
+pub const MAX_SIDECAR_BYTES: u64 = 1 << 20;
+
+/// A hex hash of an image's linear pixels: the 64-bit FNV-1a of the
+/// little-endian bits of each pixel's red, green and blue f32, row by row,
+/// which an EXR stores exactly; it ties a sidecar to its image.
+pub fn pixels_digest(pixels: impl Iterator<Item = [f32; 3]>) -> String {
+    let mut h = Fnv::default();
+    for p in pixels {
+        for c in p {
+            h.bytes(&c.to_le_bytes());
+        }
+    }
+    format!("{:016x}", h.finish())
 }
 
 /// What the sidecar records of how `options` chooses lights.
@@ -125,10 +196,6 @@ fn light_selection(options: &RenderOptions) -> &'static str {
         true => options.light_selection.name(),
         false => "none",
     }
-}
-
-fn independent() -> String {
-    crate::sampling::SamplerKind::Independent.name().to_string()
 }
 
 /// `image` with `.json` appended: `tile.exr` → `tile.exr.json`.

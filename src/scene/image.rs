@@ -1,8 +1,12 @@
 //! Decoded texture images: linear RGB pixels, and loading them from files.
 
+use std::io::{BufReader, Cursor, Seek};
 use std::path::Path;
 
 use glam::Vec3;
+use image::ImageReader;
+
+use super::file::{self, ReadError};
 
 /// An image decoded to linear RGB, row 0 at the top.
 #[derive(Clone, PartialEq, serde::Serialize)]
@@ -28,10 +32,7 @@ impl std::fmt::Debug for ImageData {
 #[derive(Debug, thiserror::Error)]
 pub enum ImageLoadError {
     #[error("cannot read `{path}`: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    Io { path: String, source: ReadError },
     #[error("cannot decode `{path}`: {message}")]
     Decode { path: String, message: String },
     #[error("image `{path}` is empty (0 pixels)")]
@@ -52,26 +53,53 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 static SRGB8_TO_LINEAR: std::sync::LazyLock<[f32; 256]> =
     std::sync::LazyLock::new(|| std::array::from_fn(|c| srgb_to_linear(c as f32 / 255.0)));
 
+/// The most bytes an image file is read with per pixel of the size its
+/// header gives (an uncompressed RGBA f32 EXR holds 16), beside
+/// [`FILE_ALLOWANCE`] for headers and metadata: the budget charges an image
+/// by its header's size, so a larger file is refused unread.
+const FILE_BYTES_PER_PIXEL: u64 = 16;
+const FILE_ALLOWANCE: u64 = 1 << 20;
+
 impl ImageData {
     /// The width and height of the image file at `path`, read from its
     /// header without decoding it; `None` when the header is unreadable
-    /// (loading then reports why).
+    /// or the path is no regular file (loading then reports why).
     pub fn dimensions(path: &Path) -> Option<(u32, u32)> {
-        image::image_dimensions(path).ok()
+        let file = file::open(path).ok()?;
+        header_size(BufReader::new(file)).ok()
     }
 
     /// Loads a PNG or JPEG file (any format the `image` crate reads) and
-    /// decodes its sRGB values to linear RGB.
+    /// decodes its sRGB values to linear RGB. The file is read only up to
+    /// the bytes an image of its header's size may hold, and decoded to
+    /// that size at most.
     pub fn load(path: &Path) -> Result<ImageData, ImageLoadError> {
         let shown = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|source| ImageLoadError::Io {
+        let io = |source: ReadError| ImageLoadError::Io {
             path: shown.clone(),
             source,
-        })?;
-        let decoded = image::load_from_memory(&bytes).map_err(|e| ImageLoadError::Decode {
+        };
+        let decode = |message: String| ImageLoadError::Decode {
             path: shown.clone(),
-            message: e.to_string(),
-        })?;
+            message,
+        };
+        let mut opened = file::open(path).map_err(io)?;
+        let (width, height) =
+            header_size(BufReader::new(&mut opened)).map_err(|e| decode(e.to_string()))?;
+        opened.rewind().map_err(|e| io(e.into()))?;
+        let pixels = u64::from(width) * u64::from(height);
+        let limit = pixels
+            .saturating_mul(FILE_BYTES_PER_PIXEL)
+            .saturating_add(FILE_ALLOWANCE);
+        let bytes = file::read_bounded(opened, limit).map_err(io)?;
+        let mut reader = ImageReader::new(Cursor::new(&bytes))
+            .with_guessed_format()
+            .map_err(|e| decode(e.to_string()))?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(width);
+        limits.max_image_height = Some(height);
+        reader.limits(limits);
+        let decoded = reader.decode().map_err(|e| decode(e.to_string()))?;
         let rgb = decoded.to_rgb8();
         if rgb.width() == 0 || rgb.height() == 0 {
             return Err(ImageLoadError::Empty { path: shown });
@@ -87,4 +115,12 @@ impl ImageData {
             pixels,
         })
     }
+}
+
+/// The width and height an image's header gives, its format told by its
+/// content.
+fn header_size(reader: impl std::io::BufRead + Seek) -> Result<(u32, u32), image::ImageError> {
+    ImageReader::new(reader)
+        .with_guessed_format()?
+        .into_dimensions()
 }

@@ -5,10 +5,12 @@
 //! group in the file is merged into one mesh whose triangles carry a material
 //! slot. MTL entries are mapped to rtlang materials by [`map_material`].
 
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
+use super::file;
 use super::mesh::{MeshMaterial, MeshMaterialKind};
 use super::obj_lines::LineError;
 use super::MeshData;
@@ -49,16 +51,23 @@ pub enum ObjError {
 /// one slot stays free for faces without a material.
 const MAX_MATERIALS: usize = u16::MAX as usize;
 
+/// The most bytes an OBJ file is read with when no smaller limit is given
+/// (the evaluator gives the size it charged to the memory budget).
+pub const MAX_OBJ_BYTES: u64 = 4 << 30;
+/// The most bytes a material library is read with.
+const MAX_MTL_BYTES: u64 = 64 << 20;
+
 /// Loads the OBJ file at `path`, triangulating polygons.
 pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
+    load_obj_within(path, MAX_OBJ_BYTES)
+}
+
+/// [`load_obj`] of a file refused past `limit` bytes. The OBJ and its
+/// material library are read once each, as regular files only (a device
+/// or FIFO is an error, not a read that never ends).
+pub fn load_obj_within(path: &Path, limit: u64) -> Result<LoadedObj, ObjError> {
     let shown = path.display().to_string();
-    if let Err(e) = std::fs::metadata(path) {
-        return Err(ObjError::Io {
-            path: shown,
-            message: e.to_string(),
-        });
-    }
-    let bytes = std::fs::read(path).map_err(|e| ObjError::Io {
+    let bytes = file::read(path, limit).map_err(|e| ObjError::Io {
         path: shown.clone(),
         message: e.to_string(),
     })?;
@@ -74,25 +83,36 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, mtl) = tobj::load_obj(path, &options).map_err(|e| match e {
-        tobj::LoadError::OpenFileFailed | tobj::LoadError::ReadError => ObjError::Io {
-            path: shown.clone(),
-            message: e.to_string(),
-        },
-        _ => ObjError::Parse {
-            path: shown.clone(),
-            message: e.to_string(),
-        },
-    })?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    // tobj keeps only its own error kind for a library; why it failed is
+    // kept here for the warning.
+    let mtl_problem = RefCell::new(None);
+    let load_mtl = |name: &Path| {
+        let mtl = base.join(name);
+        match file::read(&mtl, MAX_MTL_BYTES) {
+            Ok(text) => tobj::load_mtl_buf(&mut text.as_slice()),
+            Err(e) => {
+                *mtl_problem.borrow_mut() = Some(format!("`{}`: {e}", mtl.display()));
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
+    };
+    let (models, mtl) =
+        tobj::load_obj_buf(&mut bytes.as_slice(), &options, load_mtl).map_err(|e| {
+            ObjError::Parse {
+                path: shown.clone(),
+                message: e.to_string(),
+            }
+        })?;
 
     let mut warnings = Vec::new();
-    let base = path.parent().unwrap_or(Path::new("."));
     let file_materials = match mtl {
         Ok(list) => list,
         Err(e) => {
-            if file_names_mtl(path) {
+            if names_mtl(&bytes) {
+                let why = mtl_problem.take().unwrap_or_else(|| e.to_string());
                 warnings.push(format!(
-                    "`{shown}`: its material library could not be loaded ({e}); using a grey diffuse material"
+                    "`{shown}`: its material library could not be loaded ({why}); using a grey diffuse material"
                 ));
             }
             Vec::new()
@@ -115,10 +135,10 @@ pub fn load_obj(path: &Path) -> Result<LoadedObj, ObjError> {
 
 /// Whether the OBJ text has an `mtllib` line (so a missing library is worth a
 /// warning rather than the normal case of a file without materials).
-fn file_names_mtl(path: &Path) -> bool {
-    std::fs::read_to_string(path)
-        .map(|text| text.lines().any(|l| l.trim_start().starts_with("mtllib")))
-        .unwrap_or(false)
+fn names_mtl(bytes: &[u8]) -> bool {
+    bytes
+        .split(|&b| b == b'\n')
+        .any(|l| l.trim_ascii_start().starts_with(b"mtllib"))
 }
 
 /// Merges tobj's models into one mesh, one material slot per triangle.

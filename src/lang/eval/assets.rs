@@ -92,7 +92,13 @@ impl Evaluator {
         if let Some(hit) = self.caches.meshes.get(&full) {
             return Ok(hit.clone());
         }
-        let (mesh, warnings) = match self.options.assets.mesh(&full) {
+        let limit = self.charge_file(
+            &full,
+            budget::BYTES_PER_OBJ_BYTE,
+            span,
+            "this mesh file while it is loaded",
+        )?;
+        let (mesh, warnings) = match self.options.assets.mesh(&full, limit) {
             Ok(loaded) => loaded,
             Err(ObjError::At { path, error }) => {
                 let d = self.obj_line_error(&full, path, &error, span);

@@ -9,6 +9,8 @@
 //! renders the largest accepted scene of each kind under an address-space
 //! cap; docs/testing.md gives the measured margins).
 
+use std::path::Path;
+
 use super::{Eval, Evaluator, Fail};
 use crate::lang::codes::Code;
 use crate::lang::diagnostics::Diagnostic;
@@ -35,6 +37,17 @@ pub const BYTES_PER_LIGHT: f64 = 1024.0;
 /// One shell piece of an analytic revolution: the inner and outer shells'
 /// triangles and their trees.
 pub const BYTES_PER_SHELL: f64 = 1024.0;
+
+/// One byte of a scene file while it is parsed and evaluated: its text
+/// (kept for diagnostics), line table, syntax tree and the values built
+/// from it (three 63 MiB includes took 7.1 GB, 36 bytes a byte). Charged
+/// for every file of a scene, so includes add up.
+pub const BYTES_PER_SOURCE_BYTE: f64 = 40.0;
+/// One byte of an OBJ file while it is loaded: the file's bytes, tobj's
+/// arrays and vertex map, and the mesh built from them (a 2e7-face file of
+/// 8-byte face lines peaked at 2.8 GB, about 18 bytes a byte). Its
+/// triangles are charged again, per placement, once it is loaded.
+pub const BYTES_PER_OBJ_BYTE: f64 = 32.0;
 
 /// One texture image pixel while its file is decoded: the file's bytes,
 /// the decoded and 8-bit RGB copies and the linear `Vec3` kept (12 bytes).
@@ -155,6 +168,24 @@ impl Evaluator {
             }
             None => self.memory.estimate += bytes,
         }
+    }
+
+    /// Charges the size of the regular file `path` at `factor` bytes a
+    /// byte, before it is read, and gives the size (the most bytes it may
+    /// then be read with); a file that is missing or no regular file is
+    /// charged nothing (reading it reports why).
+    pub(super) fn charge_file(
+        &mut self,
+        path: &Path,
+        factor: f64,
+        span: Span,
+        what: &str,
+    ) -> Eval<u64> {
+        let Ok(size) = crate::scene::file::regular_size(path) else {
+            return Ok(0);
+        };
+        self.charge(size as f64 * factor, span, what)?;
+        Ok(size)
     }
 
     /// Charges the node built from an object.

@@ -5,11 +5,12 @@ use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::Evaluator;
+use super::{budget, Evaluator};
 use crate::lang::ast::Item;
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::{self, Span};
 use crate::lang::syntax;
+use crate::scene::file::{self, ReadError};
 
 /// The largest scene file accepted.
 pub const MAX_FILE_BYTES: u64 = 64 << 20;
@@ -108,6 +109,11 @@ impl Evaluator {
             return;
         }
         self.include_chain(file, from);
+        let bytes = text.len() as f64 * budget::BYTES_PER_SOURCE_BYTE;
+        let at = from.unwrap_or(Span::new(file, 0, 0));
+        if self.charge(bytes, at, "this scene file").is_err() {
+            return;
+        }
         let parsed = syntax::parse_all(&text, file);
         // Unused-name warnings would be echoes of the parts that failed.
         self.syntax_failed |= !parsed.syntax_errors.is_empty();
@@ -182,22 +188,37 @@ impl Evaluator {
         if let Some((_, text)) = buffer {
             return Some(text.clone());
         }
-        let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-        if size > MAX_FILE_BYTES {
-            let d = Diagnostic::global(
-                Code::FileTooLarge,
-                format!(
-                    "`{}` is {:.1} MiB, more than the {} MiB a scene file may have",
-                    path.display(),
-                    size as f64 / (1u64 << 20) as f64,
-                    MAX_FILE_BYTES >> 20
-                ),
-            )
-            .help("generate large scenes with `repeat` loops, or load geometry with `mesh`");
-            self.report(located(d));
-            return None;
+        match file::regular_size(path) {
+            Ok(size) if size > MAX_FILE_BYTES => {
+                let d = Diagnostic::global(
+                    Code::FileTooLarge,
+                    format!(
+                        "`{}` is {:.1} MiB, more than the {} MiB a scene file may have",
+                        path.display(),
+                        size as f64 / (1u64 << 20) as f64,
+                        MAX_FILE_BYTES >> 20
+                    ),
+                )
+                .help("generate large scenes with `repeat` loops, or load geometry with `mesh`");
+                self.report(located(d));
+                return None;
+            }
+            Err(ReadError::NotRegular { kind }) => {
+                let d = Diagnostic::global(
+                    Code::FileType,
+                    format!("`{}` is {kind}, not a scene file", path.display()),
+                )
+                .label("not a regular file")
+                .help("scenes and includes are regular text files; a device, FIFO or folder is never read");
+                if from.is_some() {
+                    self.include_failed = true;
+                }
+                self.report(located(d));
+                return None;
+            }
+            _ => {}
         }
-        let bytes = match std::fs::read(path) {
+        let bytes = match file::read(path, MAX_FILE_BYTES) {
             Ok(bytes) => bytes,
             Err(e) => {
                 let help = match near_miss(path) {

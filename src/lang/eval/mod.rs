@@ -44,6 +44,7 @@ use super::source::{SourceMap, Span};
 
 pub(crate) use builtins::Args;
 pub use defs::PREDEFINED;
+pub(crate) use files::MAX_FILE_BYTES;
 pub use math::random;
 pub(crate) use value::Value;
 
