@@ -4,14 +4,15 @@
 //! the surface data of the nearest one; up to eight rays may walk it
 //! together ([`PrimitiveSet::first_hits`]).
 
-use super::bvh::{bits, Leaves, PACKET};
+use super::bvh::{bits, Leaves};
 use super::emitter::LightId;
-use super::flat::{FlatFaces, Hits8, Nearest8, RAYS};
+use super::flat::{FlatFaces, Hits8, Nearest8};
 use super::hit::facing_flat;
 use super::leaf::{slots, Packs, SphereLeaf};
 use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
 use super::{Aabb, Bvh, Hit, Ray};
 use crate::scene::MaterialId;
+use crate::simd::LANES;
 
 /// A bounded analytic primitive; the closed set matched in the hot path.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -219,7 +220,7 @@ impl PrimitiveSet {
         Some(facing_flat(h, ray.dir, material, light))
     }
 
-    /// The nearest hits in `(t_min, ∞)` of up to [`PACKET`] rays that cross
+    /// The nearest hits in `(t_min, ∞)` of up to [`LANES`] rays that cross
     /// much the same boxes (a pixel's camera rays), facing their rays,
     /// written into `out` (one per ray). They are found in one walk of the
     /// packet ([`Bvh::traverse_packet`]; the tree of a flat set serves too). A
@@ -229,9 +230,9 @@ impl PrimitiveSet {
     /// finds, so the two part only where two surfaces meet a ray at one
     /// `t`). Every crossing is found out to infinity and compared after.
     pub fn first_hits(&self, rays: &[Ray], t_min: f32, out: &mut [Option<Hit>]) {
-        let mut t_max = [f32::INFINITY; PACKET];
-        let mut best: [Option<(Crossing, usize)>; PACKET] = [None; PACKET];
-        let mut keep = |k: usize, slot: usize, c: Crossing, t_max: &mut [f32; PACKET]| {
+        let mut t_max = [f32::INFINITY; LANES];
+        let mut best: [Option<(Crossing, usize)>; LANES] = [None; LANES];
+        let mut keep = |k: usize, slot: usize, c: Crossing, t_max: &mut [f32; LANES]| {
             // Below the best (t, slot) so far; never a crossing at infinity.
             let closer =
                 c.t < t_max[k] || (c.t == t_max[k] && best[k].is_some_and(|(_, s)| slot < s));
@@ -320,7 +321,7 @@ impl PrimitiveSet {
     /// [`PrimitiveSet::flat_crossing`] for eight rays at once (none for a
     /// set that is not flat).
     #[inline]
-    pub fn flat_crossings8(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Option<Nearest8> {
+    pub fn flat_crossings8(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Option<Nearest8> {
         Some(self.flat.as_ref()?.nearest8(rays, t_min, t_max))
     }
 
@@ -330,7 +331,7 @@ impl PrimitiveSet {
     /// lane by lane (all eight at once where the CPU has AVX2, else a lane
     /// at a time). A set that is not flat writes nothing.
     #[inline]
-    pub fn flat_hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+    pub fn flat_hits8(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
         let Some(flat) = &self.flat else { return };
         if !flat.hits8(rays, near, out) {
             self.flat_hits_each(rays, near, out);
@@ -341,7 +342,7 @@ impl PrimitiveSet {
     /// kept out of the callers' loops).
     #[cold]
     #[inline(never)]
-    pub(super) fn flat_hits_each(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+    pub(super) fn flat_hits_each(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
         for (l, ray) in rays.iter().enumerate() {
             let Some((slot, c)) = near.crossing(l) else {
                 continue;
@@ -468,7 +469,7 @@ mod tests {
         assert!(!set.is_flat());
         let (mut ties, mut hits) = (0, 0);
         for p in 0..400 {
-            let n = 1 + p % PACKET;
+            let n = 1 + p % LANES;
             let from = Vec3::new(r() * 30.0 - 15.0, 0.5 + r() * 4.0, r() * 30.0 - 15.0);
             let to = Vec3::new(r() * 20.0 - 10.0, r() * 2.0 - 0.5, r() * 20.0 - 10.0);
             let spread = if p % 3 == 0 { 10.0 } else { 0.3 };
@@ -478,7 +479,7 @@ mod tests {
                     Ray::new(from, (at - from).normalize(), 0.0)
                 })
                 .collect();
-            let mut packet = [None; PACKET];
+            let mut packet = [None; LANES];
             set.first_hits(&rays, 0.0, &mut packet[..n]);
             for (k, ray) in rays.iter().enumerate() {
                 let mut alone = [None];

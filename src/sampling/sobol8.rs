@@ -6,6 +6,7 @@
 //! bit.
 
 use super::sobol::{to_unit, MIX};
+use crate::simd::LANES;
 
 /// `sobol1(i).reverse_bits()` without tables, for the lanes of
 /// [`points8`]. Bit `j` of it is the parity of the index bits `k` with
@@ -23,11 +24,8 @@ fn sobol1_reversed_of(i: u32) -> u32 {
     x
 }
 
-/// Lanes of [`points8`]: each step is written lane by lane so that the
+/// Eight lanes of `u32`s. Each step is written lane by lane so that the
 /// compiler turns it into vector instructions.
-pub const LANES: usize = 8;
-
-/// Eight lanes of `u32`s.
 pub type Lanes32 = [u32; LANES];
 
 /// [`upward_mix`] of every lane of `x` under the seed in the same place of

@@ -30,27 +30,25 @@ use glam::Vec3;
 use crate::geometry::primitives::Primitive;
 use crate::geometry::shapes::Crossing;
 use crate::geometry::Ray;
-
-/// Rays per pass.
-pub const RAYS: usize = 8;
+use crate::simd::LANES;
 
 /// Each lane's nearest crossing: its face's slot (`u32::MAX` for none),
 /// distance, and a parallelogram's `(u, v)` (zero for a rect).
 #[derive(Clone, Copy, Debug)]
 pub struct Nearest8 {
-    pub slot: [u32; RAYS],
-    pub t: [f32; RAYS],
-    pub u: [f32; RAYS],
-    pub v: [f32; RAYS],
+    pub slot: [u32; LANES],
+    pub t: [f32; LANES],
+    pub u: [f32; LANES],
+    pub v: [f32; LANES],
 }
 
 impl Nearest8 {
     /// No lane with a crossing.
     pub const NONE: Nearest8 = Nearest8 {
-        slot: [u32::MAX; RAYS],
-        t: [0.0; RAYS],
-        u: [0.0; RAYS],
-        v: [0.0; RAYS],
+        slot: [u32::MAX; LANES],
+        t: [0.0; LANES],
+        u: [0.0; LANES],
+        v: [0.0; LANES],
     };
 
     /// Lane `l`'s crossing and its slot, as [`super::FlatFaces::nearest`]
@@ -99,7 +97,7 @@ impl Each {
 
     /// Each ray's nearest crossing with `t` in `(t_min, t_max)`.
     #[inline]
-    pub(super) fn nearest(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    pub(super) fn nearest(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         match self {
             Each::Portable(f) => f.nearest(rays, t_min, t_max),
             // SAFETY: AVX faces are built only where the CPU has AVX2.
@@ -129,7 +127,7 @@ impl Faces<Avx8> {
     /// # Safety
     /// The CPU must support AVX2.
     #[target_feature(enable = "avx2")]
-    unsafe fn nearest_avx2(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    unsafe fn nearest_avx2(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         self.nearest(rays, t_min, t_max)
     }
 }
@@ -141,7 +139,7 @@ impl Faces<Lanes16> {
     /// # Safety
     /// The CPU must support AVX-512F.
     #[target_feature(enable = "avx512f")]
-    unsafe fn nearest_avx512(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    unsafe fn nearest_avx512(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         self.nearest(rays, t_min, t_max)
     }
 }
@@ -149,7 +147,7 @@ impl Faces<Lanes16> {
 impl<W: Wide> Faces<W> {
     pub(super) fn new(prims: &[Primitive]) -> Faces<W> {
         let (rects, quads) = by_kind(prims).unwrap_or_default();
-        let per_pass = W::LANES / RAYS;
+        let per_pass = W::LANES / LANES;
         Faces {
             rects: rects
                 .chunks(per_pass)
@@ -163,7 +161,7 @@ impl<W: Wide> Faces<W> {
     }
 
     #[inline(always)]
-    fn nearest(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    fn nearest(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         let r = lanes_of::<W>(rays);
         let t_min = W::splat(t_min);
         let zero = W::splat(0.0);
@@ -192,7 +190,7 @@ impl<W: Wide> Faces<W> {
             best.nearest_of(other);
         }
         // Sixteen lanes: the second face's half against the first's.
-        if W::LANES > RAYS {
+        if W::LANES > LANES {
             let upper = Best {
                 t: best.t.upper_half(),
                 slot: best.slot.upper_half(),
@@ -205,7 +203,7 @@ impl<W: Wide> Faces<W> {
         // without the caller's AVX-512F, and called the lane stores as
         // functions (with `lanes_of`, 5 % of a Cornell render).
         let mut near = Nearest8::NONE;
-        for l in 0..RAYS {
+        for l in 0..LANES {
             near.slot[l] = best.slot(l);
             near.t[l] = best.t.lane(l);
             near.u[l] = best.u.lane(l);
@@ -217,7 +215,7 @@ impl<W: Wide> Faces<W> {
 
 /// Each face in eight lanes, in order.
 fn spread<F: Copy>(faces: &[(u32, F)]) -> Vec<(u32, F)> {
-    faces.iter().flat_map(|f| [*f; RAYS]).collect()
+    faces.iter().flat_map(|f| [*f; LANES]).collect()
 }
 
 /// The rays' origins and directions, ray `l` in lane `l` (and in lane
@@ -226,9 +224,9 @@ fn spread<F: Copy>(faces: &[(u32, F)]) -> Vec<(u32, F)> {
 /// line, compiled without the caller's AVX-512F, and called the vector
 /// load as a function.
 #[inline(always)]
-fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
-    let mut o = [[0.0f32; RAYS]; 3];
-    let mut d = [[0.0f32; RAYS]; 3];
+fn lanes_of<W: Wide>(rays: &[Ray; LANES]) -> RayLanes<W> {
+    let mut o = [[0.0f32; LANES]; 3];
+    let mut d = [[0.0f32; LANES]; 3];
     for (l, ray) in rays.iter().enumerate() {
         for a in 0..3 {
             o[a][l] = ray.origin[a];
@@ -236,8 +234,8 @@ fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
         }
     }
     let (o, d) = (
-        o.map(|v| W::row(|l| v[l % RAYS])),
-        d.map(|v| W::row(|l| v[l % RAYS])),
+        o.map(|v| W::row(|l| v[l % LANES])),
+        d.map(|v| W::row(|l| v[l % LANES])),
     );
     RayLanes {
         o: [W::load(&o[0]), W::load(&o[1]), W::load(&o[2])],
