@@ -122,7 +122,7 @@ impl CameraRays {
         time: &[f32; LANES],
     ) -> RayLanes {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
             return unsafe { self.rays_from8_avx2(pixel, u, time) };
         }

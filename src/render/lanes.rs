@@ -383,7 +383,7 @@ fn camera_rays(
     time: &Lane<f32>,
 ) -> Lane<Ray> {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
         return unsafe { camera_rays_avx2(camera, pixel, u, time) };
     }
@@ -426,7 +426,7 @@ fn camera_rays_lanes(
 #[inline]
 fn shade(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
         return unsafe { shade_avx2(frame, u, light) };
     }

@@ -24,7 +24,7 @@ use arrayvec::ArrayVec;
 
 use super::{Aabb, Ray};
 #[cfg(target_arch = "x86_64")]
-pub(crate) use node::avx;
+use crate::simd::avx;
 use node::{node_hit, BoxRay, BvhNode, CHILDREN};
 pub use packet::bits;
 use sah::BinaryNode;

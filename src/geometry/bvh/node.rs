@@ -150,14 +150,6 @@ impl BvhNode {
     }
 }
 
-/// Whether the walks take the AVX box test (checked once per walk; the
-/// standard library caches the answer).
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-pub(crate) fn avx() -> bool {
-    std::arch::is_x86_feature_detected!("avx")
-}
-
 /// A node's box test by the path a walk was compiled for.
 #[inline(always)]
 pub(super) fn node_hit<const AVX: bool>(
@@ -167,7 +159,7 @@ pub(super) fn node_hit<const AVX: bool>(
 ) -> ([f32; CHILDREN], u32) {
     #[cfg(target_arch = "x86_64")]
     if AVX {
-        // SAFETY: the AVX walks run only where `avx()` said so.
+        // SAFETY: the AVX walks run only where `simd::avx()` said so.
         return unsafe { node.hit_avx(ray, t_max) };
     }
     node.hit(ray, t_max)

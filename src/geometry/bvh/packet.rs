@@ -65,7 +65,7 @@ impl Bvh {
             return;
         }
         #[cfg(target_arch = "x86_64")]
-        if super::avx() {
+        if crate::simd::avx() {
             // SAFETY: the CPU has AVX.
             return unsafe { self.walk_packet_avx(rays, t_max, visit) };
         }

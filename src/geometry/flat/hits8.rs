@@ -83,7 +83,7 @@ impl Faces {
     #[inline]
     pub(super) fn hits(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if super::rays8::avx2() {
+        if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
             unsafe { self.hits_avx2(rays, near, out) };
             return true;

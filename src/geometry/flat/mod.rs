@@ -35,7 +35,7 @@ use super::shapes::{Crossing, Quad, Rect};
 use super::Ray;
 use crate::simd::LANES;
 #[cfg(target_arch = "x86_64")]
-use avx512::{avx512, Lanes16};
+use avx512::Lanes16;
 use glam::Vec3;
 pub use hits8::Hits8;
 pub use rays8::Nearest8;
@@ -232,7 +232,7 @@ impl FlatFaces {
     /// parallelogram and there are at most [`MAX_FACES`].
     pub fn new(prims: &[Primitive]) -> Option<FlatFaces> {
         #[cfg(target_arch = "x86_64")]
-        let packs = if avx512() {
+        let packs = if crate::simd::avx512f() {
             Width::Sixteen(Packs::new(prims)?)
         } else {
             Width::Eight(Packs::new(prims)?)
@@ -252,7 +252,7 @@ impl FlatFaces {
         match &self.packs {
             Width::Eight(p) => {
                 #[cfg(target_arch = "x86_64")]
-                if super::bvh::avx() {
+                if crate::simd::avx() {
                     // SAFETY: the CPU has AVX.
                     return unsafe { p.nearest_avx(ray, t_min, t_max) };
                 }
@@ -286,7 +286,7 @@ impl FlatFaces {
         match &self.packs {
             Width::Eight(p) => {
                 #[cfg(target_arch = "x86_64")]
-                if super::bvh::avx() {
+                if crate::simd::avx() {
                     // SAFETY: the CPU has AVX.
                     return unsafe { p.occluded_avx(ray, t_min, t_max) };
                 }
@@ -623,7 +623,8 @@ mod tests {
             let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
             let eight = Packs::<Lanes8>::new(&prims).expect("rects and parallelograms only");
             #[cfg(target_arch = "x86_64")]
-            let sixteen = avx512().then(|| Packs::<Lanes16>::new(&prims).expect("packed"));
+            let sixteen =
+                crate::simd::avx512f().then(|| Packs::<Lanes16>::new(&prims).expect("packed"));
             for ray in rays(&prims, at, size, &mut r) {
                 let want = one_by_one(&prims, &ray, 0.0, f32::INFINITY);
                 let grazed = || prims.iter().any(|p| edge_distance(p, &ray) < GRAZE);

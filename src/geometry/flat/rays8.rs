@@ -20,7 +20,7 @@
 //! session 22).
 
 #[cfg(target_arch = "x86_64")]
-use super::avx512::{avx512, Lanes16};
+use super::avx512::Lanes16;
 #[cfg(target_arch = "x86_64")]
 use super::avx8::Avx8;
 use super::wide::{Lanes8, Wide};
@@ -85,11 +85,11 @@ impl Each {
     /// holds).
     pub(super) fn new(prims: &[Primitive]) -> Each {
         #[cfg(target_arch = "x86_64")]
-        if avx512() {
+        if crate::simd::avx512f() {
             return Each::Avx512(Faces::new(prims));
         }
         #[cfg(target_arch = "x86_64")]
-        if avx2() {
+        if crate::simd::avx2() {
             return Each::Avx2(Faces::new(prims));
         }
         Each::Portable(Faces::new(prims))
@@ -243,13 +243,6 @@ fn lanes_of<W: Wide>(rays: &[Ray; LANES]) -> RayLanes<W> {
     }
 }
 
-/// Whether the passes take AVX registers: eight lanes of masks need
-/// 256-bit integer operations, which AVX alone splits in halves.
-#[cfg(target_arch = "x86_64")]
-pub(super) fn avx2() -> bool {
-    std::arch::is_x86_feature_detected!("avx2")
-}
-
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
@@ -261,10 +254,10 @@ pub(super) mod tests {
         let mut forms = vec![Each::Portable(Faces::new(prims))];
         #[cfg(target_arch = "x86_64")]
         {
-            if avx2() {
+            if crate::simd::avx2() {
                 forms.push(Each::Avx2(Faces::new(prims)));
             }
-            if avx512() {
+            if crate::simd::avx512f() {
                 forms.push(Each::Avx512(Faces::new(prims)));
             }
         }
