@@ -55,6 +55,8 @@ lane_op!(AvxMask8, BitAnd, bitand, _mm256_and_ps);
 lane_op!(AvxMask8, BitOr, bitor, _mm256_or_ps);
 
 /// All bits set: what a true lane holds.
+// SAFETY: eight words of all ones are the 32 bytes of a valid __m256
+// (every bit pattern is).
 const ALL: AvxMask8 = AvxMask8(unsafe { std::mem::transmute::<[i32; LANES], __m256>([-1; LANES]) });
 
 impl Not for AvxMask8 {
