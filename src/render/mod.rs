@@ -11,6 +11,7 @@ pub mod film;
 pub mod fuzz;
 pub mod integrator;
 pub mod interrupt;
+pub mod job;
 pub mod lanes;
 pub mod light_tree;
 pub mod lights;
