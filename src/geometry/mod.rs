@@ -14,9 +14,11 @@ pub mod leaf;
 pub mod medium;
 pub mod mesh;
 pub mod object;
+pub mod primitive;
 pub mod primitives;
 pub mod ray;
 pub mod revolution;
+pub mod segments;
 pub mod shapes;
 pub mod sweep;
 

@@ -13,7 +13,7 @@
 //! 1.085x as fast (docs/performance.md, session 22).
 
 use super::rays8::Nearest8;
-use crate::geometry::primitives::Primitive;
+use crate::geometry::primitive::Primitive;
 #[cfg(target_arch = "x86_64")]
 use crate::geometry::ray::gamma;
 use crate::geometry::Ray;

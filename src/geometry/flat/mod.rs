@@ -30,7 +30,7 @@ mod hits8;
 mod rays8;
 mod wide;
 
-use super::primitives::Primitive;
+use super::primitive::Primitive;
 use super::shapes::{Crossing, Quad, Rect};
 use super::Ray;
 use crate::simd::LANES;

@@ -27,7 +27,7 @@ use super::wide::{Lanes8, Wide};
 use super::{by_kind, quad_pack, rect_pack, within_unit, Best, QuadPack, RayLanes, RectPack};
 use glam::Vec3;
 
-use crate::geometry::primitives::Primitive;
+use crate::geometry::primitive::Primitive;
 use crate::geometry::shapes::Crossing;
 use crate::geometry::Ray;
 use crate::simd::LANES;

@@ -83,7 +83,7 @@ impl Sphere {
 
     /// Both roots of the ray's line, after the early miss test of
     /// [`Sphere::intersect`]; `None` when the line misses. Always inlined,
-    /// as [`crate::geometry::primitives::Primitive::crossing`] is.
+    /// as [`crate::geometry::primitive::Primitive::crossing`] is.
     #[inline(always)]
     pub fn roots(&self, ray: &Ray) -> Option<Roots> {
         let f = ray.origin - self.center;
