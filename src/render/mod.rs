@@ -26,6 +26,7 @@ pub mod raycast;
 pub mod scenes;
 pub mod texture;
 pub mod tiles;
+pub mod timed;
 
 pub use film::Film;
 pub use options::{Crop, RenderOptions};
