@@ -21,9 +21,11 @@ pub mod revolution;
 pub mod segments;
 pub mod shapes;
 pub mod sweep;
+pub mod uv;
 
 pub use aabb::Aabb;
 pub use build::{BuildError, World};
 pub use bvh::Bvh;
-pub use hit::{Hit, SurfaceUv};
+pub use hit::Hit;
 pub use ray::Ray;
+pub use uv::SurfaceUv;
