@@ -13,3 +13,4 @@ pub mod preview;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod simd;

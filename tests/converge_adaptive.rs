@@ -9,8 +9,9 @@ use std::time::Duration;
 mod support;
 
 use rtlang::geometry::World;
-use rtlang::render::adaptive::{render_for, FIRST_ROUND};
+use rtlang::render::adaptive::FIRST_ROUND;
 use rtlang::render::scenes::cornell_box;
+use rtlang::render::timed::render_for;
 use rtlang::render::{render, RenderOptions};
 
 #[test]

@@ -2,24 +2,27 @@
 //! applies command-line overrides, picks the tile or crop and pass, resumes a
 //! checkpoint, renders with a progress bar or JSON progress lines, and writes
 //! the image and its sidecar — also when a signal stops the render (exit
-//! 130). Orchestration only; the work is in `lang`, `geometry` and `render`.
+//! 130). Orchestration only: the work is in `lang`, `geometry` and
+//! `render`, the run itself (checkpoints, time budget, stop) in
+//! `render::job`.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use rtlang::geometry::World;
-use rtlang::render::checkpoint::{self, Header};
+use rtlang::render::checkpoint::Header;
+use rtlang::render::job::{Checkpointing, Events, Outcome, RenderJob};
 use rtlang::render::lights::LightSelection;
 use rtlang::render::output::{self, write_image_at_quality, Format, JPEG_QUALITY};
 use rtlang::render::piece::PieceInfo;
 use rtlang::render::progress::Meter;
-use rtlang::render::{interrupt, render_film, Crop, Film, Hooks, RenderOptions};
+use rtlang::render::{interrupt, Crop, Film, RenderOptions};
 use rtlang::sampling::SamplerKind;
 
 use super::split::{self, Tile};
@@ -286,24 +289,7 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         Some(c) => Some(split::expand_frame(c, frame).map_err(fail)?),
         None => None,
     };
-    let mut lang_options = rtlang::lang::Options {
-        defines: args.define.clone(),
-        frame: frame as f64,
-        fps: args.fps,
-        ..rtlang::lang::Options::default()
-    };
-    if let Some(gib) = args.memory_budget {
-        lang_options.memory_budget = (gib * (1u64 << 30) as f64) as u64;
-    }
-    let loaded = rtlang::lang::load_scene_with(&args.scene, &lang_options).map_err(|reports| {
-        for r in reports {
-            errln!("{r:?}");
-        }
-        Failure::Error
-    })?;
-    for w in &loaded.warnings {
-        errln!("{w:?}");
-    }
+    let loaded = load_frame(args, frame)?;
     output::check_writable(&output).map_err(fail)?;
     if let Some(path) = &checkpoint_path {
         checkpoint::check_path(path, &output, &loaded.files).map_err(report)?;
@@ -325,90 +311,37 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         piece: PieceInfo::new(&scene, &options, region, frame as f64, 0),
         first_sample: options.first_sample().unwrap_or(0),
     };
-    let mut film = match &checkpoint_path {
-        Some(path) if args.resume && path.exists() => {
-            checkpoint::load(path, &header).map_err(report)?
-        }
-        _ => Film::new(region),
+    let job = RenderJob {
+        scene: &scene,
+        world: &world,
+        options: &options,
+        checkpoint: checkpoint_path.as_deref().map(|path| Checkpointing {
+            path,
+            header: &header,
+            every: Duration::from_secs(args.checkpoint_every),
+        }),
+        time_budget: args.time,
+        stop,
     };
+    let mut film = job.start_film(region, args.resume).map_err(report)?;
     let pixels = region.width() as u64 * region.height() as u64;
     let already: u64 = film.taken.iter().map(|&t| t as u64).sum();
-    let meter = Meter::new(pixels, options.spp, already);
-    let mode = if args.quiet && args.progress == Progress::Bar {
-        Progress::None
-    } else {
-        args.progress
+    let shown = Shown::new(args, pixels, &options, already, frame as f64);
+    let tile_done = |n: u64| shown.tile_done(n);
+    // A warning printed while the bar is drawn goes above it.
+    let save_failed = |e| {
+        shown
+            .bar
+            .suspend(|| errln!("warning: {:?}", miette::Report::new(e)))
     };
-    let bar = if mode == Progress::Bar && std::io::stderr().is_terminal() {
-        let style =
-            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} ETA {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar());
-        ProgressBar::new(pixels * options.spp as u64)
-            .with_style(style)
-            .with_position(already)
-    } else {
-        ProgressBar::hidden()
+    let mut events = Events {
+        tile_done: &tile_done,
+        round_done: &mut |_| {},
+        save_failed: &save_failed,
     };
-    let (fnum, pass) = (frame as f64, options.pass);
-    let tile_done = |n: u64| {
-        bar.inc(n);
-        if mode == Progress::Json {
-            // Holding stdout while counting keeps the lines in order.
-            let mut out = std::io::stdout().lock();
-            let done = meter.add(n);
-            let line = writeln!(out, "{}", meter.report("tile", fnum, pass, done).json());
-            super::console::or_exit(line.and_then(|()| out.flush()), super::console::Stream::Out);
-        } else {
-            meter.add(n);
-        }
-    };
-    let mut last_save = Instant::now();
-    let every = Duration::from_secs(args.checkpoint_every);
-    let mut round_done = |film: &Film| {
-        if let Some(path) = &checkpoint_path {
-            if last_save.elapsed() >= every {
-                save_checkpoint(path, &header, film);
-                last_save = Instant::now();
-            }
-        }
-    };
-    // A time budget stops the render like a signal does, but is a success.
-    let budget_stop = AtomicBool::new(false);
-    let finished = AtomicBool::new(false);
-    let stats = std::thread::scope(|scope| {
-        let watched = match args.time {
-            Some(budget) => {
-                let start = Instant::now();
-                let (flag, finished) = (&budget_stop, &finished);
-                scope.spawn(move || {
-                    while !finished.load(Ordering::Relaxed) {
-                        if stop.load(Ordering::Relaxed) || start.elapsed() >= budget {
-                            flag.store(true, Ordering::Relaxed);
-                            return;
-                        }
-                        std::thread::sleep(Duration::from_millis(10));
-                    }
-                });
-                flag
-            }
-            None => stop,
-        };
-        let mut hooks = Hooks {
-            stop: watched,
-            tile_done: &tile_done,
-            round_done: &mut round_done,
-        };
-        let result = render_film(&scene, &world, &options, &mut film, &mut hooks);
-        finished.store(true, Ordering::Relaxed);
-        result
-    })
-    .map_err(fail)?;
-    bar.finish_and_clear();
+    let Outcome { stats, interrupted } = job.run(&mut film, &mut events).map_err(fail)?;
+    shown.bar.finish_and_clear();
     let reached = film.spp_reached();
-    let interrupted = reached < options.spp && stop.load(Ordering::Relaxed);
-    if let Some(path) = &checkpoint_path {
-        save_checkpoint(path, &header, &film);
-    }
     let info = PieceInfo {
         spp_reached: reached,
         ..header.piece.clone()
@@ -419,10 +352,7 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         &film,
         wants_sidecar(args).then_some(&info),
     )?;
-    if mode == Progress::Json {
-        let event = if interrupted { "interrupted" } else { "pass" };
-        outln!("{}", meter.report(event, fnum, pass, meter.done()).json());
-    }
+    shown.ended(interrupted);
     let secs = stats.wall.as_secs_f64().max(1e-9);
     errln!(
         "{} {} in {:.2} s at {} of {} spp: {:.3} M samples/s, {:.3} M rays/s, {} dropped samples, {} Newton failures",
@@ -453,6 +383,101 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         return Err(Failure::Interrupted);
     }
     Ok(())
+}
+
+/// The scene at `frame`, its warnings printed (its errors too, as a
+/// failure).
+fn load_frame(args: &RenderArgs, frame: i64) -> Result<rtlang::lang::Loaded, Failure> {
+    let mut lang_options = rtlang::lang::Options {
+        defines: args.define.clone(),
+        frame: frame as f64,
+        fps: args.fps,
+        ..rtlang::lang::Options::default()
+    };
+    if let Some(gib) = args.memory_budget {
+        lang_options.memory_budget = (gib * (1u64 << 30) as f64) as u64;
+    }
+    let loaded = rtlang::lang::load_scene_with(&args.scene, &lang_options).map_err(|reports| {
+        for r in reports {
+            errln!("{r:?}");
+        }
+        Failure::Error
+    })?;
+    for w in &loaded.warnings {
+        errln!("{w:?}");
+    }
+    Ok(loaded)
+}
+
+/// How a frame's progress is shown: a bar on a terminal, JSON lines, or
+/// nothing.
+struct Shown {
+    mode: Progress,
+    bar: ProgressBar,
+    meter: Meter,
+    frame: f64,
+    pass: u32,
+}
+
+impl Shown {
+    fn new(
+        args: &RenderArgs,
+        pixels: u64,
+        options: &RenderOptions,
+        already: u64,
+        frame: f64,
+    ) -> Shown {
+        let meter = Meter::new(pixels, options.spp, already);
+        let mode = if args.quiet && args.progress == Progress::Bar {
+            Progress::None
+        } else {
+            args.progress
+        };
+        let bar = if mode == Progress::Bar && std::io::stderr().is_terminal() {
+            let style =
+                ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} ETA {eta}")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar());
+            ProgressBar::new(pixels * options.spp as u64)
+                .with_style(style)
+                .with_position(already)
+        } else {
+            ProgressBar::hidden()
+        };
+        Shown {
+            mode,
+            bar,
+            meter,
+            frame,
+            pass: options.pass,
+        }
+    }
+
+    /// A finished tile of `n` pixel-samples.
+    fn tile_done(&self, n: u64) {
+        self.bar.inc(n);
+        if self.mode == Progress::Json {
+            // Holding stdout while counting keeps the lines in order.
+            let mut out = std::io::stdout().lock();
+            let done = self.meter.add(n);
+            let report = self.meter.report("tile", self.frame, self.pass, done);
+            let line = writeln!(out, "{}", report.json());
+            super::console::or_exit(line.and_then(|()| out.flush()), super::console::Stream::Out);
+        } else {
+            self.meter.add(n);
+        }
+    }
+
+    /// The JSON line of the frame's end.
+    fn ended(&self, interrupted: bool) {
+        if self.mode == Progress::Json {
+            let event = if interrupted { "interrupted" } else { "pass" };
+            let done = self.meter.done();
+            outln!(
+                "{}",
+                self.meter.report(event, self.frame, self.pass, done).json()
+            );
+        }
+    }
 }
 
 /// The scene's settings with the command line's overrides.
@@ -497,12 +522,6 @@ fn options_for(
         None => args.crop,
     };
     Ok(options)
-}
-
-fn save_checkpoint(path: &Path, header: &Header, film: &Film) {
-    if let Err(e) = checkpoint::save(path, header, film) {
-        errln!("warning: {:?}", miette::Report::new(e));
-    }
 }
 
 /// Whether the render is a piece of a larger one (a tile, a crop, a pass, a

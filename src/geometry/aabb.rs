@@ -34,6 +34,11 @@ impl Aabb {
         self.min.cmpgt(self.max).any()
     }
 
+    /// Whether the box is non-empty and finite (it can go into a BVH).
+    pub fn is_bounded(&self) -> bool {
+        !self.is_empty() && self.min.is_finite() && self.max.is_finite()
+    }
+
     pub fn union(&self, o: &Aabb) -> Aabb {
         Aabb {
             min: self.min.min(o.min),

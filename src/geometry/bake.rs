@@ -15,7 +15,7 @@
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
 use super::emitter::LightId;
-use super::primitives::Primitive;
+use super::primitive::Primitive;
 use super::shapes::{Cuboid, Quad, Rect, Sphere, Triangle, TurnedSphere};
 use crate::scene::{MaterialId, Node, Shape};
 

@@ -26,12 +26,13 @@ use glam::{Affine3A, Mat4, Vec3};
 use super::bake::{flatten, primitive, Baked};
 use super::emitter::{is_light, Emitters, LightId, Placed, Source};
 use super::group::Group;
-use super::instance::{is_bounded, Instance, Placement};
-use super::medium::{Medium, MediumSegments};
+use super::instance::{Instance, Placement};
+use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
 use super::primitives::PrimitiveSet;
 use super::revolution::{tessellate, RevolutionSurface};
+use super::segments::MediumSegments;
 use super::shapes::Plane;
 use super::sweep::swept_bounds;
 use super::{Aabb, Hit, Ray};
@@ -401,7 +402,7 @@ impl Builder<'_> {
                 } else {
                     let geometry = self.unplaced(inner);
                     let bounds = geometry.bounds();
-                    let swept = if is_bounded(&bounds) {
+                    let swept = if bounds.is_bounded() {
                         swept_bounds(motion, &bounds, self.shutter.0, self.shutter.1)
                     } else {
                         bounds

@@ -2,10 +2,13 @@
 //! the unbounded ones (infinite planes) tested after it, and the media,
 //! asked for their stretches last, up to the nearest surface found (a few
 //! in turn, more through a BVH of their own).
+//!
+//! It imports [`super::object`], which imports it back: a group is one
+//! kind of [`Geometry`] and holds geometry (see that module's header).
 
-use super::instance::{is_bounded, Instance};
-use super::medium::MediumSegments;
+use super::instance::Instance;
 use super::object::Geometry;
+use super::segments::MediumSegments;
 use super::{Aabb, Bvh, Hit, Ray};
 
 /// Up to this many media are asked in turn rather than through a BVH: a
@@ -81,7 +84,7 @@ struct Layer {
 impl Layer {
     fn new(instances: Vec<Instance>) -> Layer {
         let (bounded, unbounded): (Vec<Instance>, Vec<Instance>) =
-            instances.into_iter().partition(|i| is_bounded(&i.bounds));
+            instances.into_iter().partition(|i| i.bounds.is_bounded());
         let boxes: Vec<Aabb> = bounded.iter().map(|i| i.bounds).collect();
         let (bvh, order) = Bvh::build(&boxes);
         let bounded = order.iter().map(|&i| bounded[i as usize].clone()).collect();
@@ -181,7 +184,7 @@ mod tests {
     use crate::geometry::emitter::LightId;
     use crate::geometry::instance::Placement;
     use crate::geometry::medium::Medium;
-    use crate::geometry::primitives::Primitive;
+    use crate::geometry::primitive::Primitive;
     use crate::geometry::shapes::Sphere;
     use crate::scene::MaterialId;
 

@@ -4,12 +4,12 @@
 //! shading normal is the geometric one (every shape but an interpolated
 //! mesh), with the same bits.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::emitter::LightId;
 use super::ray::{offset_origin, SurfacePoint};
-use super::shapes::sphere::sphere_uv;
 use super::shapes::ShapeHit;
+use super::uv::SurfaceUv;
 use crate::scene::MaterialId;
 
 /// Where and how a ray hit a surface.
@@ -89,34 +89,6 @@ pub fn facing(h: ShapeHit, shading: Vec3, dir: Vec3, material: MaterialId, light
         normal
     };
     hit
-}
-
-/// A hit's (u, v), kept in the form its shape found cheapest: most shapes
-/// have it at hand, but a sphere's needs `acos` and `atan2`, so a sphere hit
-/// keeps its unit normal and the angles are taken only when a texture reads
-/// uv from the one hit that is shaded.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SurfaceUv {
-    At(Vec2),
-    /// The sphere's unit normal in its object space (see [`sphere_uv`]).
-    Sphere(Vec3),
-}
-
-impl SurfaceUv {
-    #[inline]
-    pub fn get(self) -> Vec2 {
-        match self {
-            SurfaceUv::At(uv) => uv,
-            SurfaceUv::Sphere(n) => sphere_uv(n),
-        }
-    }
-}
-
-impl From<Vec2> for SurfaceUv {
-    #[inline]
-    fn from(uv: Vec2) -> SurfaceUv {
-        SurfaceUv::At(uv)
-    }
 }
 
 #[cfg(test)]

@@ -3,15 +3,19 @@
 //! normals not at all), by a fixed matrix with its inverse and normal
 //! matrix cached, or by a motion evaluated at the ray's time. Only moving
 //! instances look at the time.
+//!
+//! It imports [`super::object`], which reaches it back through groups: an
+//! instance places a [`Geometry`], which may be a group of instances (see
+//! that module's header).
 
 use std::sync::Arc;
 
 use glam::{Affine3A, Mat3A, Mat4, Vec3};
 
 use super::emitter::LightId;
-use super::medium::MediumSegments;
 use super::object::Geometry;
 use super::ray::{gamma, transform_point};
+use super::segments::MediumSegments;
 use super::{Aabb, Hit, Ray};
 use crate::scene::motion::CompiledMotion;
 
@@ -111,17 +115,12 @@ pub struct Instance {
     pub lights: LightId,
 }
 
-/// Whether a box is non-empty and finite (it can go into a BVH).
-pub fn is_bounded(b: &Aabb) -> bool {
-    !b.is_empty() && b.min.is_finite() && b.max.is_finite()
-}
-
 impl Instance {
     /// Places `geometry` as is or by a fixed transform.
     pub fn new(geometry: Arc<Geometry>, placement: Placement) -> Instance {
         let local = geometry.bounds();
         let bounds = match placement.matrix() {
-            Some(m) if is_bounded(&local) && m != Mat4::IDENTITY => local.transformed(&m),
+            Some(m) if local.is_bounded() && m != Mat4::IDENTITY => local.transformed(&m),
             _ => local,
         };
         Instance {

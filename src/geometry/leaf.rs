@@ -269,7 +269,8 @@ mod tests {
     use super::*;
     use crate::geometry::emitter::LightId;
     use crate::geometry::mesh::MeshGeometry;
-    use crate::geometry::primitives::{Primitive, PrimitiveSet};
+    use crate::geometry::primitive::Primitive;
+    use crate::geometry::primitives::PrimitiveSet;
     use crate::geometry::shapes::triangle::TriangleHit;
     use crate::geometry::shapes::{Crossing, ShapeHit};
     use crate::sampling::rng::numbers;

@@ -3,12 +3,15 @@
 //! including rays that start inside); the integrator samples the free-flight
 //! distance along them (as pbrt-v4 does), so intersection draws no random
 //! numbers.
+//!
+//! It imports [`super::object`], which imports it back: a medium is one
+//! kind of [`Geometry`] and its boundary is geometry (see that module's
+//! header).
 
 use std::sync::Arc;
 
-use arrayvec::ArrayVec;
-
 use super::object::Geometry;
+use super::segments::{MediumSegment, MediumSegments, MAX_SEGMENTS};
 use super::shapes::Sphere;
 use super::{Aabb, Ray};
 use crate::scene::MaterialId;
@@ -22,46 +25,6 @@ pub struct Medium {
     density: f32,
     /// The phase function (an isotropic material).
     material: MaterialId,
-}
-
-/// Boundary crossings looked for per ray before giving up (a ray weaving
-/// through a non-convex boundary), and the segments one query can hold.
-const MAX_SEGMENTS: usize = 16;
-
-/// A stretch `t0..t1` of a ray inside a medium.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MediumSegment {
-    pub t0: f32,
-    pub t1: f32,
-    pub density: f32,
-    pub material: MaterialId,
-}
-
-/// The medium segments a query found, in a fixed-capacity array (no
-/// allocation, and not zero-filled: a query that meets no medium writes
-/// nothing); segments past its capacity are dropped, as crossings past
-/// `MAX_SEGMENTS` always were.
-#[derive(Clone, Debug, Default)]
-pub struct MediumSegments {
-    items: ArrayVec<MediumSegment, MAX_SEGMENTS>,
-}
-
-impl MediumSegments {
-    #[inline]
-    pub fn clear(&mut self) {
-        self.items.clear();
-    }
-
-    #[inline]
-    fn push(&mut self, s: MediumSegment) {
-        let _ = self.items.try_push(s);
-    }
-
-    /// The segments found.
-    #[inline]
-    pub fn as_slice(&self) -> &[MediumSegment] {
-        &self.items
-    }
 }
 
 impl Medium {
@@ -194,7 +157,8 @@ mod tests {
 
     use super::*;
     use crate::geometry::emitter::LightId;
-    use crate::geometry::primitives::{Primitive, PrimitiveSet};
+    use crate::geometry::primitive::Primitive;
+    use crate::geometry::primitives::PrimitiveSet;
     use crate::geometry::shapes::TurnedSphere;
     use crate::sampling::rng::numbers;
 

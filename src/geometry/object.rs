@@ -1,5 +1,11 @@
 //! A bottom- or mid-level object: the closed set of things an instance can
 //! place, and their intersection returning a full [`Hit`].
+//!
+//! This module and [`super::group`], [`super::instance`] and
+//! [`super::medium`] import each other on purpose: a [`Geometry`] may be a
+//! group of instances of geometry, or a medium whose boundary is geometry.
+//! The type is recursive across them, and one closed enum keeps the hot
+//! path's dispatch a single match instead of a call through a trait object.
 
 use std::sync::Arc;
 
@@ -8,10 +14,12 @@ use glam::Vec3;
 use super::emitter::LightId;
 use super::group::Group;
 use super::hit::{facing, facing_flat};
-use super::medium::{Medium, MediumSegments};
+use super::medium::Medium;
 use super::mesh::MeshGeometry;
-use super::primitives::{Primitive, PrimitiveSet};
+use super::primitive::Primitive;
+use super::primitives::PrimitiveSet;
 use super::revolution::RevolutionSurface;
+use super::segments::MediumSegments;
 use super::shapes::{Plane, ShapeHit};
 use super::{Aabb, Hit, Ray};
 use crate::scene::MaterialId;

@@ -4,92 +4,16 @@
 //! the surface data of the nearest one; up to eight rays may walk it
 //! together ([`PrimitiveSet::first_hits`]).
 
-use super::bvh::{bits, Leaves, PACKET};
+use super::bvh::{bits, Leaves};
 use super::emitter::LightId;
-use super::flat::{FlatFaces, Hits8, Nearest8, RAYS};
+use super::flat::{FlatFaces, Hits8, Nearest8};
 use super::hit::facing_flat;
 use super::leaf::{slots, Packs, SphereLeaf};
-use super::shapes::{Crossing, Cuboid, Quad, Rect, ShapeHit, Sphere, Triangle, TurnedSphere};
+use super::primitive::Primitive;
+use super::shapes::{Crossing, ShapeHit, Sphere};
 use super::{Aabb, Bvh, Hit, Ray};
 use crate::scene::MaterialId;
-
-/// A bounded analytic primitive; the closed set matched in the hot path.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Primitive {
-    Sphere(Sphere),
-    TurnedSphere(TurnedSphere),
-    Rect(Rect),
-    Quad(Quad),
-    Cuboid(Cuboid),
-    Triangle(Triangle),
-}
-
-impl Primitive {
-    pub fn bounds(&self) -> Aabb {
-        match self {
-            Primitive::Sphere(s) => s.bounds(),
-            Primitive::TurnedSphere(s) => s.bounds(),
-            Primitive::Rect(r) => r.bounds(),
-            Primitive::Quad(q) => q.bounds(),
-            Primitive::Cuboid(c) => c.bounds(),
-            Primitive::Triangle(t) => t.bounds(),
-        }
-    }
-
-    /// The sphere a (turned) sphere is intersected as.
-    pub fn sphere(&self) -> Option<Sphere> {
-        match self {
-            Primitive::Sphere(s) => Some(*s),
-            Primitive::TurnedSphere(s) => Some(s.sphere),
-            _ => None,
-        }
-    }
-
-    /// The nearest hit with `t` in `(t_min, t_max)`.
-    #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
-        match self {
-            Primitive::Sphere(s) => s.intersect(ray, t_min, t_max),
-            Primitive::TurnedSphere(s) => s.intersect(ray, t_min, t_max),
-            Primitive::Rect(r) => r.intersect(ray, t_min, t_max),
-            Primitive::Quad(q) => q.intersect(ray, t_min, t_max),
-            Primitive::Cuboid(c) => c.intersect(ray, t_min, t_max),
-            Primitive::Triangle(t) => t.intersect(ray, t_min, t_max),
-        }
-    }
-
-    /// The nearest crossing with `t` in `(t_min, t_max)`, without its
-    /// surface data. Always inlined: a BVH walk's visit is this test, and
-    /// the compiler left to itself may keep it out of the walk (random
-    /// spheres +2.3 % instructions).
-    #[inline(always)]
-    pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
-        match self {
-            Primitive::Sphere(s) => s.crossing(ray, t_min, t_max),
-            Primitive::TurnedSphere(s) => s.sphere.crossing(ray, t_min, t_max),
-            Primitive::Rect(r) => r.crossing(ray, t_min, t_max),
-            Primitive::Quad(q) => q.crossing(ray, t_min, t_max),
-            Primitive::Cuboid(c) => c.crossing(ray, t_min, t_max),
-            Primitive::Triangle(t) => t.crossing(ray, t_min, t_max),
-        }
-    }
-
-    /// The hit at a crossing this primitive gave for `ray`. Always inlined:
-    /// with two callers (the one-ray and the packet walks' hits) the
-    /// compiler kept it out of line, and the random spheres took 0.6 % more
-    /// instructions (callgrind, 100×56 at 16 spp on one thread).
-    #[inline(always)]
-    pub fn surface(&self, ray: &Ray, c: &Crossing) -> ShapeHit {
-        match self {
-            Primitive::Sphere(s) => s.surface(ray, c),
-            Primitive::TurnedSphere(s) => s.surface(ray, c),
-            Primitive::Rect(r) => r.surface(ray, c),
-            Primitive::Quad(q) => q.surface(c),
-            Primitive::Cuboid(b) => b.surface(ray, c),
-            Primitive::Triangle(t) => t.surface(c),
-        }
-    }
-}
+use crate::simd::LANES;
 
 /// Primitives in BVH leaf order, each with its material and light id.
 #[derive(Debug, Default)]
@@ -218,7 +142,7 @@ impl PrimitiveSet {
         Some(facing_flat(h, ray.dir, material, light))
     }
 
-    /// The nearest hits in `(t_min, ∞)` of up to [`PACKET`] rays that cross
+    /// The nearest hits in `(t_min, ∞)` of up to [`LANES`] rays that cross
     /// much the same boxes (a pixel's camera rays), facing their rays,
     /// written into `out` (one per ray). They are found in one walk of the
     /// packet ([`Bvh::traverse_packet`]; the tree of a flat set serves too). A
@@ -228,9 +152,9 @@ impl PrimitiveSet {
     /// finds, so the two part only where two surfaces meet a ray at one
     /// `t`). Every crossing is found out to infinity and compared after.
     pub fn first_hits(&self, rays: &[Ray], t_min: f32, out: &mut [Option<Hit>]) {
-        let mut t_max = [f32::INFINITY; PACKET];
-        let mut best: [Option<(Crossing, usize)>; PACKET] = [None; PACKET];
-        let mut keep = |k: usize, slot: usize, c: Crossing, t_max: &mut [f32; PACKET]| {
+        let mut t_max = [f32::INFINITY; LANES];
+        let mut best: [Option<(Crossing, usize)>; LANES] = [None; LANES];
+        let mut keep = |k: usize, slot: usize, c: Crossing, t_max: &mut [f32; LANES]| {
             // Below the best (t, slot) so far; never a crossing at infinity.
             let closer =
                 c.t < t_max[k] || (c.t == t_max[k] && best[k].is_some_and(|(_, s)| slot < s));
@@ -319,7 +243,7 @@ impl PrimitiveSet {
     /// [`PrimitiveSet::flat_crossing`] for eight rays at once (none for a
     /// set that is not flat).
     #[inline]
-    pub fn flat_crossings8(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Option<Nearest8> {
+    pub fn flat_crossings8(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Option<Nearest8> {
         Some(self.flat.as_ref()?.nearest8(rays, t_min, t_max))
     }
 
@@ -329,7 +253,7 @@ impl PrimitiveSet {
     /// lane by lane (all eight at once where the CPU has AVX2, else a lane
     /// at a time). A set that is not flat writes nothing.
     #[inline]
-    pub fn flat_hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+    pub fn flat_hits8(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
         let Some(flat) = &self.flat else { return };
         if !flat.hits8(rays, near, out) {
             self.flat_hits_each(rays, near, out);
@@ -340,7 +264,7 @@ impl PrimitiveSet {
     /// kept out of the callers' loops).
     #[cold]
     #[inline(never)]
-    pub(super) fn flat_hits_each(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+    pub(super) fn flat_hits_each(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
         for (l, ray) in rays.iter().enumerate() {
             let Some((slot, c)) = near.crossing(l) else {
                 continue;
@@ -413,6 +337,7 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
+    use crate::geometry::shapes::Triangle;
     use crate::sampling::rng::numbers;
 
     /// A hit's bits (uv aside, which only a texture reads): t, point,
@@ -466,7 +391,7 @@ mod tests {
         assert!(!set.is_flat());
         let (mut ties, mut hits) = (0, 0);
         for p in 0..400 {
-            let n = 1 + p % PACKET;
+            let n = 1 + p % LANES;
             let from = Vec3::new(r() * 30.0 - 15.0, 0.5 + r() * 4.0, r() * 30.0 - 15.0);
             let to = Vec3::new(r() * 20.0 - 10.0, r() * 2.0 - 0.5, r() * 20.0 - 10.0);
             let spread = if p % 3 == 0 { 10.0 } else { 0.3 };
@@ -476,7 +401,7 @@ mod tests {
                     Ray::new(from, (at - from).normalize(), 0.0)
                 })
                 .collect();
-            let mut packet = [None; PACKET];
+            let mut packet = [None; LANES];
             set.first_hits(&rays, 0.0, &mut packet[..n]);
             for (k, ray) in rays.iter().enumerate() {
                 let mut alone = [None];

@@ -3,6 +3,11 @@
 //! numeric entries also compile into motion programs), "did you mean"
 //! suggests from it, and the reference table of `docs/language.md` (which the
 //! language server shows) lists exactly its rows (`tests/lang_docs.rs`).
+//!
+//! This module and [`crate::lang::eval`] import each other on purpose: a row
+//! points at the evaluator function that runs the call, and the evaluator
+//! looks calls up here. Keeping the function in the row makes adding a
+//! built-in one row and one function, with nothing else to keep in step.
 
 use crate::lang::eval::{Args, Eval, Evaluator, Value};
 use crate::lang::source::Span;

@@ -17,7 +17,8 @@ use crate::geometry::World;
 use crate::lang::diagnostics::render_plain;
 use crate::lang::{Options, SourceMap, Span};
 use crate::render::film::Film;
-use crate::render::{probe, render_film, Hooks, RenderOptions};
+use crate::render::job::{Events, RenderJob};
+use crate::render::{probe, RenderOptions};
 use crate::scene::digest::Fnv;
 use crate::scene::{Node, Scene, Shape};
 
@@ -323,13 +324,21 @@ impl Session {
                 self.publish(&mut state);
             }
         };
-        let mut hooks = Hooks {
+        let job = RenderJob {
+            scene: &good.scene,
+            world: &good.world,
+            options,
+            checkpoint: None,
+            time_budget: None,
             stop: cancel,
+        };
+        let mut events = Events {
             tile_done: &tile_done,
             round_done: &mut round_done,
+            save_failed: &|_| {},
         };
         // The options were checked above; a failure here leaves the last image.
-        let _ = render_film(&good.scene, &good.world, options, &mut film, &mut hooks);
+        let _ = job.run(&mut film, &mut events);
     }
 
     /// What the page shows besides the image, and its version.

@@ -1,24 +1,13 @@
-//! Adaptive and time-budgeted sampling.
-//!
-//! - Per-pixel adaptivity (`--noise TARGET`): a pixel traces samples in
-//!   rounds that double its count, starting at [`FIRST_ROUND`]; after each
-//!   round the relative standard error of its mean luminance (from the
-//!   running variance) is compared with the target, and the pixel stops once
-//!   below it or at the spp cap. The decision uses that pixel's samples only,
-//!   so the image stays deterministic and independent of threads and crops.
-//! - Time budget (`--time`): whole-image rounds of doubling spp, each with
-//!   new sample indices, averaged by sample count, until the next round
-//!   would not fit the remaining budget (the result depends on the machine's
-//!   speed by design; the summary says what was reached).
-
-use std::time::{Duration, Instant};
+//! Per-pixel adaptive sampling (`--noise TARGET`): a pixel traces samples
+//! in rounds that double its count, starting at [`FIRST_ROUND`]; after
+//! each round the relative standard error of its mean luminance (from the
+//! running variance) is compared with the target, and the pixel stops once
+//! below it or at the spp cap. The decision uses that pixel's samples only,
+//! so the image stays deterministic and independent of threads and crops.
+//! The tile loop ([`super::tiles`]) asks this module; time-budgeted whole
+//! image rounds are in [`super::timed`].
 
 use glam::Vec3;
-
-use super::options::RenderOptions;
-use super::tiles::{render, RenderError, RenderOutput};
-use crate::geometry::World;
-use crate::scene::Scene;
 
 /// Samples every pixel traces before its error is first estimated. Long
 /// enough that a run of samples which all missed the pixel's light (zero
@@ -67,53 +56,4 @@ impl PixelEstimate {
 #[inline]
 pub fn is_round_end(done: u32) -> bool {
     done >= FIRST_ROUND && done.is_power_of_two()
-}
-
-/// What a time-budgeted render reached.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Progressive {
-    pub spp: u32,
-    pub rounds: u32,
-}
-
-/// Renders rounds of 1, 1, 2, 4, … spp (new samples each round) while the
-/// next round is predicted to fit in `budget`; at least one round runs.
-pub fn render_for(
-    scene: &Scene,
-    world: &World,
-    options: &RenderOptions,
-    budget: Duration,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<(RenderOutput, Progressive), RenderError> {
-    let start = Instant::now();
-    let mut round = options.clone();
-    round.sample_offset = 0;
-    round.spp = 1;
-    let mut acc = render(scene, world, &round, progress)?;
-    let mut rounds = 1;
-    let mut done = 1u32;
-    let mut last = acc.stats.wall;
-    loop {
-        // The next round traces `done` more samples: about twice the last.
-        let predicted = last.mul_f64(done as f64 / round.spp as f64);
-        if start.elapsed() + predicted > budget || done.checked_mul(2).is_none() {
-            acc.stats.wall = start.elapsed();
-            acc.stats.spp_min = done;
-            acc.stats.spp_max = done;
-            return Ok((acc, Progressive { spp: done, rounds }));
-        }
-        round.sample_offset = done;
-        round.spp = done;
-        let out = render(scene, world, &round, progress)?;
-        last = out.stats.wall;
-        rounds += 1;
-        for (p, q) in acc.pixels.iter_mut().zip(&out.pixels) {
-            *p = (*p + *q) * 0.5;
-        }
-        acc.stats.samples += out.stats.samples;
-        acc.stats.rays += out.stats.rays;
-        acc.stats.dropped += out.stats.dropped;
-        acc.stats.newton_failures = out.stats.newton_failures;
-        done *= 2;
-    }
 }

@@ -7,22 +7,23 @@ use crate::geometry::Ray;
 use crate::sampling::warp::uniform_disk;
 use crate::sampling::{Dim, Sampler};
 use crate::scene::Camera;
+use crate::simd::LANES;
 
 /// Eight rays by coordinate, as [`CameraRays::rays_from8`] makes them: a
 /// ray read from here takes each number from one vector store (`[Ray; 8]`,
 /// 28 bytes a ray, was read back across two stores and waited on them).
 #[derive(Clone, Copy, Debug)]
 pub struct RayLanes {
-    origin: [[f32; 8]; 3],
-    dir: [[f32; 8]; 3],
-    time: [f32; 8],
+    origin: [[f32; LANES]; 3],
+    dir: [[f32; LANES]; 3],
+    time: [f32; LANES],
 }
 
 impl RayLanes {
     /// The ray of lane `i`.
     #[inline(always)]
     pub fn ray(&self, i: usize) -> Ray {
-        let at = |v: &[[f32; 8]; 3]| Vec3::new(v[0][i], v[1][i], v[2][i]);
+        let at = |v: &[[f32; LANES]; 3]| Vec3::new(v[0][i], v[1][i], v[2][i]);
         Ray::new(at(&self.origin), at(&self.dir), self.time[i])
     }
 }
@@ -117,11 +118,11 @@ impl CameraRays {
     pub fn rays_from8(
         &self,
         pixel: (u32, u32),
-        u: &[[[f32; 8]; 2]; 2],
-        time: &[f32; 8],
+        u: &[[[f32; LANES]; 2]; 2],
+        time: &[f32; LANES],
     ) -> RayLanes {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
             return unsafe { self.rays_from8_avx2(pixel, u, time) };
         }
@@ -137,8 +138,8 @@ impl CameraRays {
     unsafe fn rays_from8_avx2(
         &self,
         pixel: (u32, u32),
-        u: &[[[f32; 8]; 2]; 2],
-        time: &[f32; 8],
+        u: &[[[f32; LANES]; 2]; 2],
+        time: &[f32; LANES],
     ) -> RayLanes {
         self.rays_from8_lanes(pixel, u, time)
     }
@@ -148,16 +149,16 @@ impl CameraRays {
     fn rays_from8_lanes(
         &self,
         (x, y): (u32, u32),
-        [film, lens]: &[[[f32; 8]; 2]; 2],
-        time: &[f32; 8],
+        [film, lens]: &[[[f32; LANES]; 2]; 2],
+        time: &[f32; LANES],
     ) -> RayLanes {
         let mut lanes = RayLanes {
-            origin: [[0.0; 8]; 3],
-            dir: [[0.0; 8]; 3],
-            time: [0.0; 8],
+            origin: [[0.0; LANES]; 3],
+            dir: [[0.0; LANES]; 3],
+            time: [0.0; LANES],
         };
-        for i in 0..8 {
-            let at = |u: &[[f32; 8]; 2]| Vec2::new(u[0][i], u[1][i]);
+        for i in 0..LANES {
+            let at = |u: &[[f32; LANES]; 2]| Vec2::new(u[0][i], u[1][i]);
             let ray = self.ray_from(x, y, at(film), at(lens), time[i]);
             for a in 0..3 {
                 lanes.origin[a][i] = ray.origin[a];

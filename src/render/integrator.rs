@@ -25,14 +25,14 @@ use super::camera::CameraRays;
 use super::lights::LightList;
 use super::material;
 use super::options::RenderOptions;
-use crate::geometry::bvh::PACKET;
 use crate::geometry::emitter::LightId;
-use crate::geometry::medium::{MediumSegment, MediumSegments};
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{spawn_to, SHADOW_END};
+use crate::geometry::segments::{MediumSegment, MediumSegments};
 use crate::geometry::{Hit, Ray, World};
 use crate::sampling::{Dim, Sampler};
 use crate::scene::{Background, MaterialId, Scene};
+use crate::simd::LANES;
 
 /// Bounces before Russian roulette may end a path.
 pub(super) const ROULETTE_AFTER: u32 = 2;
@@ -223,7 +223,7 @@ impl<'a> Tracer<'a> {
         out
     }
 
-    /// The samples `indices` of pixel `(x, y)` (at most [`PACKET`], in one
+    /// The samples `indices` of pixel `(x, y)` (at most [`LANES`], in one
     /// block of the sampler) in a world whose rays walk `set`, its
     /// [`Tracer::packets`], in packets: each sample's radiance and rays
     /// traced go to `each`, in index order. The paths go side by side,
@@ -241,12 +241,12 @@ impl<'a> Tracer<'a> {
         mut each: impl FnMut(Vec3, u32),
     ) {
         let n = indices.len();
-        assert!(n <= PACKET, "a block holds at most {PACKET} samples");
-        let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); PACKET];
+        assert!(n <= LANES, "a block holds at most {LANES} samples");
+        let mut paths = [Path::new(Ray::new(Vec3::ZERO, Vec3::X, 0.0)); LANES];
         // The camera's draws lane by lane, then the rays of all lanes at
         // once (their normalisations' chains side by side).
-        let mut u = [[[0.0; PACKET]; 2]; 2];
-        let mut time = [0.0; PACKET];
+        let mut u = [[[0.0; LANES]; 2]; 2];
+        let mut time = [0.0; LANES];
         for (k, index) in indices.enumerate() {
             sampler.lane(k);
             sampler.start(x, y, index);
@@ -262,8 +262,8 @@ impl<'a> Tracer<'a> {
         let mut live = (1u32 << n) - 1;
         let mut depth = 0;
         while live != 0 && depth < self.max_depth {
-            let mut rays = [paths[0].ray; PACKET];
-            let mut lane = [0; PACKET];
+            let mut rays = [paths[0].ray; LANES];
+            let mut lane = [0; LANES];
             let mut m = 0;
             for k in (0..n).filter(|k| live >> k & 1 != 0) {
                 sampler.lane(k);
@@ -271,7 +271,7 @@ impl<'a> Tracer<'a> {
                 (rays[m], lane[m]) = (paths[k].ray, k);
                 m += 1;
             }
-            let mut hits = [None; PACKET];
+            let mut hits = [None; LANES];
             set.first_hits(&rays[..m], 0.0, &mut hits[..m]);
             for (&k, &hit) in lane[..m].iter().zip(&hits) {
                 sampler.lane(k);

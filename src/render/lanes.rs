@@ -18,20 +18,18 @@ use super::camera::CameraRays;
 use super::integrator::{background, power_heuristic, survival, Previous, Tracer, ROULETTE_AFTER};
 use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
 use crate::geometry::flat::{Hits8, Nearest8};
-use crate::geometry::medium::MediumSegments;
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
+use crate::geometry::segments::MediumSegments;
 use crate::geometry::{Hit, Ray};
 use crate::sampling::sampler::{PixelSeeds, BLOCK};
 use crate::sampling::sobol8::{points8_each, Shuffled};
 use crate::sampling::warp::cosine_hemisphere;
 use crate::sampling::Dim;
 use crate::scene::{Material, Texture};
+use crate::simd::LANES;
 
-/// Samples traced side by side: one sampler block.
-pub const WIDTH: usize = BLOCK as usize;
-
-type Lane<T> = [T; WIDTH];
+type Lane<T> = [T; LANES];
 
 /// Live lanes from which a flat set's crossings are found eight rays to a
 /// pass rather than a ray at a time: with fewer, the eight-ray passes'
@@ -119,16 +117,16 @@ impl<'a> Lanes<'a> {
         let index = std::array::from_fn(|l| block * BLOCK + l as u32);
         // A slot's draws for the block: lane `l` holds sample
         // `block · BLOCK + l`'s, as the sampler gives it one at a time.
-        let broadcast = |bounce, dim, offset| root.slot(bounce, dim, offset).map(|s| [s; WIDTH]);
+        let broadcast = |bounce, dim, offset| root.slot(bounce, dim, offset).map(|s| [s; LANES]);
         let world = self.tracer.world;
         let flat = world.flat_set();
         let scene = self.tracer.scene;
         let mut media = MediumSegments::default();
         let mut alive = live;
-        let mut radiance = [Vec3::ZERO; WIDTH];
-        let mut throughput = [Vec3::ONE; WIDTH];
-        let mut rays = [0u32; WIDTH];
-        let mut previous = [Previous::Specular; WIDTH];
+        let mut radiance = [Vec3::ZERO; LANES];
+        let mut throughput = [Vec3::ONE; LANES];
+        let mut rays = [0u32; LANES];
+        let mut previous = [Previous::Specular; LANES];
         let camera = self.camera;
         // The camera's three slots in one pass (without a lens or a shutter,
         // `CameraRays::ray_from` ignores their draws).
@@ -169,7 +167,7 @@ impl<'a> Lanes<'a> {
             // Each lane's ray: the background ends it, an emitter ends it,
             // a diffuse surface is shaded in lanes below.
             let mut frame = Frame::default();
-            let mut diffuse = [false; WIDTH];
+            let mut diffuse = [false; LANES];
             // A world of flat faces only: every lane's crossing first, side
             // by side, then their hits, side by side; a lane's material
             // comes from its face's slot, and only a lane that met a light
@@ -180,7 +178,7 @@ impl<'a> Lanes<'a> {
                 set.flat_hits8(&ray, &near, &mut side_by_side);
                 (set, near)
             });
-            for i in 0..WIDTH {
+            for i in 0..LANES {
                 if !alive[i] {
                     continue;
                 }
@@ -240,7 +238,7 @@ impl<'a> Lanes<'a> {
             }
             let s = shade(&frame, &u, self.light.as_ref());
             if let Some(light) = &self.light {
-                for i in 0..WIDTH {
+                for i in 0..LANES {
                     let traced = diffuse[i] && s.traced[i];
                     if !traced {
                         continue;
@@ -257,8 +255,8 @@ impl<'a> Lanes<'a> {
                     }
                 }
             }
-            let mut survive = [1.0f32; WIDTH];
-            for i in 0..WIDTH {
+            let mut survive = [1.0f32; LANES];
+            for i in 0..LANES {
                 if !diffuse[i] {
                     continue;
                 }
@@ -272,7 +270,7 @@ impl<'a> Lanes<'a> {
                     survive[i] = survival(throughput[i], false);
                 }
             }
-            for i in 0..WIDTH {
+            for i in 0..LANES {
                 if !diffuse[i] {
                     continue;
                 }
@@ -383,7 +381,7 @@ fn camera_rays(
     time: &Lane<f32>,
 ) -> Lane<Ray> {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
         return unsafe { camera_rays_avx2(camera, pixel, u, time) };
     }
@@ -413,8 +411,8 @@ fn camera_rays_lanes(
     [film, lens]: &[[Lane<f32>; 2]; 2],
     time: &Lane<f32>,
 ) -> Lane<Ray> {
-    let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO, 0.0); WIDTH];
-    for i in 0..WIDTH {
+    let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO, 0.0); LANES];
+    for i in 0..LANES {
         let at = |u: &[Lane<f32>; 2]| Vec2::new(u[0][i], u[1][i]);
         rays[i] = camera.ray_from(x, y, at(film), at(lens), time[i]);
     }
@@ -426,7 +424,7 @@ fn camera_rays_lanes(
 #[inline]
 fn shade(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
         return unsafe { shade_avx2(frame, u, light) };
     }
@@ -453,7 +451,7 @@ fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
     if let Some(light) = light {
         light.sample(frame, &u.light, &mut out);
     }
-    for i in 0..WIDTH {
+    for i in 0..LANES {
         let n = frame.normal.get(i);
         let wi = cosine_hemisphere(n, Vec2::new(u.bsdf[0][i], u.bsdf[1][i]));
         out.pdf[i] = n.dot(wi).max(0.0) * std::f32::consts::FRAC_1_PI;
@@ -502,7 +500,7 @@ impl FlatLight {
         in_range: &Lane<bool>,
         pdf: &mut Lane<f32>,
     ) {
-        for i in (0..WIDTH).filter(|&i| !in_range[i]) {
+        for i in (0..LANES).filter(|&i| !in_range[i]) {
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
             let p = frame.point.get(i);
             pdf[i] = area_to_solid_angle(self.inv_area, p, x, self.normal).unwrap_or(-1.0);
@@ -515,9 +513,9 @@ impl FlatLight {
     #[inline(always)]
     fn sample(&self, frame: &Frame, u: &[Lane<f32>; 2], out: &mut Shaded) {
         let a = self.inv_area as f32;
-        let mut pdf = [0.0f32; WIDTH];
-        let mut in_range = [true; WIDTH];
-        for i in 0..WIDTH {
+        let mut pdf = [0.0f32; LANES];
+        let mut in_range = [true; LANES];
+        for i in 0..LANES {
             let p = frame.point.get(i);
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
             // `area_to_solid_angle`'s f32 path (its f64 one below).
@@ -528,7 +526,7 @@ impl FlatLight {
         if in_range.contains(&false) {
             self.wide_pdfs(frame, u, &in_range, &mut pdf);
         }
-        for i in 0..WIDTH {
+        for i in 0..LANES {
             let (p, n, g) = (
                 frame.point.get(i),
                 frame.normal.get(i),
@@ -568,7 +566,7 @@ fn crossings(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Nearest
             .expect("a flat set");
     }
     let mut near = Nearest8::NONE;
-    for i in 0..WIDTH {
+    for i in 0..LANES {
         if !alive[i] {
             continue;
         }

@@ -11,6 +11,7 @@ pub mod film;
 pub mod fuzz;
 pub mod integrator;
 pub mod interrupt;
+pub mod job;
 pub mod lanes;
 pub mod light_tree;
 pub mod lights;
@@ -25,6 +26,7 @@ pub mod raycast;
 pub mod scenes;
 pub mod texture;
 pub mod tiles;
+pub mod timed;
 
 pub use film::Film;
 pub use options::{Crop, RenderOptions};

@@ -37,9 +37,6 @@ use crate::scene::Scene;
 /// Tile edge in pixels.
 const TILE: u32 = 16;
 
-// A block of the sampler is one packet of camera rays ([`Tracer::samples`]).
-const _: () = assert!(BLOCK as usize <= crate::geometry::bvh::PACKET);
-
 /// Most samples per pixel added in one round.
 const ROUND_MAX: u32 = 16;
 

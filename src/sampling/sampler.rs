@@ -24,6 +24,7 @@ use glam::Vec2;
 
 use super::rng::{mix, Rng};
 use super::{sobol, sobol8};
+use crate::simd::LANES;
 
 /// Which sampler renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -70,7 +71,7 @@ const EXTRA_SLOTS: u32 = 1 << 31;
 
 /// Samples whose draws a reusable sampler computes together (an aligned
 /// block of indices): one vector lane each.
-pub const BLOCK: u32 = sobol8::LANES as u32;
+pub const BLOCK: u32 = LANES as u32;
 
 /// Slots whose draws a reusable sampler keeps a [`BLOCK`] at a time: the
 /// camera's and those of the first ten bounces. Deeper slots, which few
@@ -103,7 +104,7 @@ pub struct Sampler {
 struct Block {
     pixel: u64,
     block: u32,
-    draws: [[f32; sobol8::LANES]; 2],
+    draws: [[f32; LANES]; 2],
 }
 
 impl Block {
@@ -122,7 +123,7 @@ impl Block {
     const NONE: Block = Block {
         pixel: 0,
         block: u32::MAX,
-        draws: [[0.0; sobol8::LANES]; 2],
+        draws: [[0.0; LANES]; 2],
     };
 }
 

@@ -6,6 +6,7 @@
 //! bit.
 
 use super::sobol::{to_unit, MIX};
+use crate::simd::LANES;
 
 /// `sobol1(i).reverse_bits()` without tables, for the lanes of
 /// [`points8`]. Bit `j` of it is the parity of the index bits `k` with
@@ -23,11 +24,8 @@ fn sobol1_reversed_of(i: u32) -> u32 {
     x
 }
 
-/// Lanes of [`points8`]: each step is written lane by lane so that the
+/// Eight lanes of `u32`s. Each step is written lane by lane so that the
 /// compiler turns it into vector instructions.
-pub const LANES: usize = 8;
-
-/// Eight lanes of `u32`s.
 pub type Lanes32 = [u32; LANES];
 
 /// [`upward_mix`] of every lane of `x` under the seed in the same place of
@@ -184,7 +182,7 @@ pub fn points8_each<const K: usize>(
     seeds: &[[Lanes32; 3]; K],
 ) -> [[[f32; LANES]; 2]; K] {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
         return unsafe { points8_sets_avx2(index, seeds) };
     }
@@ -222,7 +220,7 @@ impl<const K: usize> Shuffled<K> {
     #[inline]
     pub fn new(index: &Lanes32, seeds0: &[Lanes32; K]) -> Shuffled<K> {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
             return unsafe { shuffles_avx2(index, seeds0) };
         }
@@ -240,7 +238,7 @@ impl<const K: usize> Shuffled<K> {
         next0: &[Lanes32; K],
     ) -> ([[[f32; LANES]; 2]; K], Shuffled<K>) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
             return unsafe { points_and_next_avx2(self, seeds, next0) };
         }
@@ -253,7 +251,7 @@ impl<const K: usize> Shuffled<K> {
 #[inline]
 pub fn points8(first: u32, seeds: [u32; 3]) -> [[f32; LANES]; 2] {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
         return unsafe { block_points_avx2(first, seeds) };
     }

@@ -24,9 +24,9 @@ use arrayvec::ArrayVec;
 
 use super::{Aabb, Ray};
 #[cfg(target_arch = "x86_64")]
-pub(crate) use node::avx;
-use node::{node_hit, BoxRay, BvhNode, WIDTH};
-pub use packet::{bits, PACKET};
+use crate::simd::avx;
+use node::{node_hit, BoxRay, BvhNode, CHILDREN};
+pub use packet::bits;
 use sah::BinaryNode;
 
 /// Depth of the traversal stack: a node pushes at most 7 more entries than
@@ -91,9 +91,9 @@ fn unpack_key(key: u64) -> (usize, f32) {
 /// distances (sending two children through it too makes the bunny's random
 /// rays 18 % slower).
 #[inline(always)]
-fn ordered_hits(dist: [f32; WIDTH], mut mask: u32) -> ([u64; WIDTH], usize) {
+fn ordered_hits(dist: [f32; CHILDREN], mut mask: u32) -> ([u64; CHILDREN], usize) {
     debug_assert!(mask.count_ones() >= 2);
-    let mut keys = [0u64; WIDTH];
+    let mut keys = [0u64; CHILDREN];
     let first = mask.trailing_zeros() as usize;
     let rest = mask & mask.wrapping_sub(1);
     if rest & rest.wrapping_sub(1) == 0 {
@@ -163,7 +163,7 @@ impl Bvh {
         let me = self.nodes.len();
         self.nodes.push(BvhNode::EMPTY);
         let children = |n: usize| [n + 1, binary[n].offset as usize];
-        let mut kids = [0usize; WIDTH];
+        let mut kids = [0usize; CHILDREN];
         let mut len;
         if binary[b].count == 0 {
             kids[..2].copy_from_slice(&children(b));
@@ -172,7 +172,7 @@ impl Bvh {
             kids[0] = b;
             len = 1;
         }
-        while len < WIDTH {
+        while len < CHILDREN {
             let widest = (0..len)
                 .filter(|&i| binary[kids[i]].count == 0)
                 .max_by(|&i, &j| {
@@ -443,8 +443,8 @@ mod tests {
         for mask in (0u32..256).filter(|m| m.count_ones() >= 2) {
             for _ in 0..20 {
                 // Distances with ties, so that the lane order is tested too.
-                let dist: [f32; WIDTH] = std::array::from_fn(|_| (r() * 4.0).floor());
-                let mut want: Vec<u64> = (0..WIDTH)
+                let dist: [f32; CHILDREN] = std::array::from_fn(|_| (r() * 4.0).floor());
+                let mut want: Vec<u64> = (0..CHILDREN)
                     .filter(|&l| mask >> l & 1 != 0)
                     .map(|l| lane_key(dist[l], l))
                     .collect();

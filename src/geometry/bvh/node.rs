@@ -9,7 +9,7 @@ use wide::{f32x4, CmpLe};
 use super::super::{Aabb, Ray};
 
 /// Children per wide node.
-pub(super) const WIDTH: usize = 8;
+pub(super) const CHILDREN: usize = 8;
 /// The factor absorbing the rounding of the slab distances (robust
 /// traversal, Ize 2013), so rays grazing a box edge are not lost.
 const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
@@ -20,8 +20,8 @@ const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub struct BvhNode {
-    bounds: [[f32; WIDTH]; 6],
-    pub(super) child: [u32; WIDTH],
+    bounds: [[f32; CHILDREN]; 6],
+    pub(super) child: [u32; CHILDREN],
 }
 
 /// A ray prepared for box tests: origin, reciprocal direction, and for each
@@ -57,14 +57,14 @@ impl BoxRay {
 impl BvhNode {
     pub(super) const EMPTY: BvhNode = BvhNode {
         bounds: [
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; CHILDREN],
+            [f32::NEG_INFINITY; CHILDREN],
+            [f32::INFINITY; CHILDREN],
+            [f32::NEG_INFINITY; CHILDREN],
+            [f32::INFINITY; CHILDREN],
+            [f32::NEG_INFINITY; CHILDREN],
         ],
-        child: [0; WIDTH],
+        child: [0; CHILDREN],
     };
 
     pub(super) fn set_lane(&mut self, lane: usize, b: &Aabb, child: u32) {
@@ -80,10 +80,10 @@ impl BvhNode {
     /// children it enters (bit `i` for lane `i`): the slab test, four lanes
     /// at a time with SSE (every x86-64 CPU has it).
     #[inline(always)]
-    pub(super) fn hit(&self, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], u32) {
+    pub(super) fn hit(&self, ray: &BoxRay, t_max: f32) -> ([f32; CHILDREN], u32) {
         let (low, low_mask) = self.hit_half(ray, t_max, 0);
         let (high, high_mask) = self.hit_half(ray, t_max, 4);
-        let mut dist = [0.0; WIDTH];
+        let mut dist = [0.0; CHILDREN];
         dist[..4].copy_from_slice(&low);
         dist[4..].copy_from_slice(&high);
         (dist, low_mask | high_mask << 4)
@@ -123,7 +123,7 @@ impl BvhNode {
     #[cfg(target_arch = "x86_64")]
     #[inline]
     #[target_feature(enable = "avx")]
-    pub(super) unsafe fn hit_avx(&self, ray: &BoxRay, t_max: f32) -> ([f32; WIDTH], u32) {
+    pub(super) unsafe fn hit_avx(&self, ray: &BoxRay, t_max: f32) -> ([f32; CHILDREN], u32) {
         use std::arch::x86_64::*;
         let mut near = _mm256_setzero_ps();
         let mut far = _mm256_set1_ps(t_max);
@@ -143,19 +143,11 @@ impl BvhNode {
         }
         let entered = _mm256_cmp_ps::<_CMP_LE_OQ>(near, _mm256_mul_ps(far, _mm256_set1_ps(ROBUST)));
         let dist = _mm256_blendv_ps(_mm256_set1_ps(f32::INFINITY), near, entered);
-        let mut out = [0.0; WIDTH];
+        let mut out = [0.0; CHILDREN];
         // SAFETY: `out` holds eight f32s.
         unsafe { _mm256_storeu_ps(out.as_mut_ptr(), dist) };
         (out, _mm256_movemask_ps(entered) as u32)
     }
-}
-
-/// Whether the walks take the AVX box test (checked once per walk; the
-/// standard library caches the answer).
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-pub(crate) fn avx() -> bool {
-    std::arch::is_x86_feature_detected!("avx")
 }
 
 /// A node's box test by the path a walk was compiled for.
@@ -164,10 +156,10 @@ pub(super) fn node_hit<const AVX: bool>(
     node: &BvhNode,
     ray: &BoxRay,
     t_max: f32,
-) -> ([f32; WIDTH], u32) {
+) -> ([f32; CHILDREN], u32) {
     #[cfg(target_arch = "x86_64")]
     if AVX {
-        // SAFETY: the AVX walks run only where `avx()` said so.
+        // SAFETY: the AVX walks run only where `simd::avx()` said so.
         return unsafe { node.hit_avx(ray, t_max) };
     }
     node.hit(ray, t_max)

@@ -16,12 +16,10 @@
 
 use arrayvec::ArrayVec;
 
-use super::node::{node_hit, BoxRay, WIDTH};
+use super::node::{node_hit, BoxRay, CHILDREN};
 use super::{leaf_range, ordered_hits, unpack_key, Bvh, LEAF, STACK};
 use crate::geometry::Ray;
-
-/// Rays in a packet.
-pub const PACKET: usize = 8;
+use crate::simd::LANES;
 
 /// The bits set in `mask`, lowest first (a packet's rays, a leaf's lanes).
 #[inline(always)]
@@ -53,21 +51,21 @@ impl Bvh {
     /// `t_max[r]`, and maybe leaves it does not enter (for another ray of
     /// the packet). `visit(first, count, rays, t_max)` tests the leaf's
     /// slots for the rays of the mask `rays` (bit `r` for `rays[r]`) and
-    /// lowers the `t_max` of those it finds a hit for. At most [`PACKET`]
+    /// lowers the `t_max` of those it finds a hit for. At most [`LANES`]
     /// rays; the entries of `t_max` past `rays.len()` are not read.
     #[inline]
     pub fn traverse_packet(
         &self,
         rays: &[Ray],
-        t_max: &mut [f32; PACKET],
-        visit: impl FnMut(usize, usize, u32, &mut [f32; PACKET]),
+        t_max: &mut [f32; LANES],
+        visit: impl FnMut(usize, usize, u32, &mut [f32; LANES]),
     ) {
-        assert!(rays.len() <= PACKET, "a packet holds {PACKET} rays");
+        assert!(rays.len() <= LANES, "a packet holds {LANES} rays");
         if self.nodes.is_empty() || rays.is_empty() {
             return;
         }
         #[cfg(target_arch = "x86_64")]
-        if super::avx() {
+        if crate::simd::avx() {
             // SAFETY: the CPU has AVX.
             return unsafe { self.walk_packet_avx(rays, t_max, visit) };
         }
@@ -83,8 +81,8 @@ impl Bvh {
     unsafe fn walk_packet_avx(
         &self,
         rays: &[Ray],
-        t_max: &mut [f32; PACKET],
-        visit: impl FnMut(usize, usize, u32, &mut [f32; PACKET]),
+        t_max: &mut [f32; LANES],
+        visit: impl FnMut(usize, usize, u32, &mut [f32; LANES]),
     ) {
         self.walk_packet::<true>(rays, t_max, visit);
     }
@@ -98,10 +96,10 @@ impl Bvh {
     fn walk_packet<const AVX: bool>(
         &self,
         rays: &[Ray],
-        t_max: &mut [f32; PACKET],
-        mut visit: impl FnMut(usize, usize, u32, &mut [f32; PACKET]),
+        t_max: &mut [f32; LANES],
+        mut visit: impl FnMut(usize, usize, u32, &mut [f32; LANES]),
     ) {
-        let box_rays: [BoxRay; PACKET] =
+        let box_rays: [BoxRay; LANES] =
             std::array::from_fn(|r| BoxRay::new(&rays[r.min(rays.len() - 1)]));
         let live = (1u32 << rays.len()) - 1;
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
@@ -120,10 +118,10 @@ impl Bvh {
                 continue;
             }
             let node = &self.nodes[index as usize];
-            let mut dist = [[f32::INFINITY; WIDTH]; PACKET];
+            let mut dist = [[f32::INFINITY; CHILDREN]; LANES];
             // Per child, the nearest entry of any ray (a select the
             // compiler makes one vector minimum: no distance is NaN).
-            let mut near = [f32::INFINITY; WIDTH];
+            let mut near = [f32::INFINITY; CHILDREN];
             // Byte `r` of `entered`: the children ray `r` enters.
             let (mut entered, mut children) = (0u64, 0u32);
             for r in bits(mask) {
@@ -142,7 +140,7 @@ impl Bvh {
             let by_child = transpose8(entered).to_le_bytes();
             let (order, n) = if children & (children - 1) == 0 {
                 let c = children.trailing_zeros() as usize;
-                let mut one = [0u64; WIDTH];
+                let mut one = [0u64; CHILDREN];
                 one[0] = super::lane_key(near[c], c);
                 (one, 1)
             } else {
@@ -219,7 +217,7 @@ mod tests {
             .collect();
         let (bvh, order) = Bvh::build(&boxes);
         for _ in 0..300 {
-            let n = 1 + (r() * PACKET as f32) as usize % PACKET;
+            let n = 1 + (r() * LANES as f32) as usize % LANES;
             // Rays of one packet: from near one point towards near another,
             // or anywhere for every third packet.
             let from = Vec3::new(r(), r(), r()) * 30.0 - 5.0;
@@ -237,7 +235,7 @@ mod tests {
                     .hit(ray, ray.dir.recip(), 0.0, f32::INFINITY)
                     .filter(|&t| t > 0.0)
             };
-            let mut t_max = [f32::INFINITY; PACKET];
+            let mut t_max = [f32::INFINITY; LANES];
             let mut seen = vec![Vec::new(); n];
             bvh.traverse_packet(&rays, &mut t_max, |first, count, mask, t_max| {
                 for k in bits(mask) {
@@ -255,7 +253,7 @@ mod tests {
                     .fold(f32::INFINITY, f32::min);
                 assert_eq!(t_max[k], nearest, "ray {k} of {n}");
                 // Alone, it meets the same nearest box.
-                let mut alone = [f32::INFINITY; PACKET];
+                let mut alone = [f32::INFINITY; LANES];
                 bvh.traverse_packet(
                     std::slice::from_ref(ray),
                     &mut alone,

@@ -7,7 +7,7 @@
 //!
 //! Every operation here is an AVX-512F instruction. They run only inside
 //! `Packs::<Lanes16>` passes compiled with AVX-512F, which
-//! `FlatFaces` enters only on a CPU that has it (`avx512()`); building the
+//! `FlatFaces` enters only on a CPU that has it ([`crate::simd::avx512f`]); building the
 //! rows and masks of a pack is plain arithmetic on arrays.
 
 use std::arch::x86_64::{
@@ -21,11 +21,6 @@ use super::wide::Wide;
 
 /// Sixteen lanes.
 const SIXTEEN: usize = 16;
-
-/// Whether this CPU runs AVX-512F.
-pub(crate) fn avx512() -> bool {
-    std::arch::is_x86_feature_detected!("avx512f")
-}
 
 /// Sixteen floats in one register.
 #[derive(Clone, Copy, Debug)]

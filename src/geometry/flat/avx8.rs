@@ -18,9 +18,7 @@ use std::arch::x86_64::{
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
 use super::wide::Wide;
-
-/// Eight lanes.
-const EIGHT: usize = 8;
+use crate::simd::LANES;
 
 /// Eight floats in one register.
 #[derive(Clone, Copy, Debug)]
@@ -29,7 +27,7 @@ pub(super) struct Avx8(__m256);
 /// Eight floats as a pack stores them, aligned for one load.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
-pub(super) struct Row8([f32; EIGHT]);
+pub(super) struct Row8([f32; LANES]);
 
 /// An eight-lane mask: all bits of a lane set where true.
 #[derive(Clone, Copy, Debug)]
@@ -57,7 +55,9 @@ lane_op!(AvxMask8, BitAnd, bitand, _mm256_and_ps);
 lane_op!(AvxMask8, BitOr, bitor, _mm256_or_ps);
 
 /// All bits set: what a true lane holds.
-const ALL: AvxMask8 = AvxMask8(unsafe { std::mem::transmute::<[i32; EIGHT], __m256>([-1; EIGHT]) });
+// SAFETY: eight words of all ones are the 32 bytes of a valid __m256
+// (every bit pattern is).
+const ALL: AvxMask8 = AvxMask8(unsafe { std::mem::transmute::<[i32; LANES], __m256>([-1; LANES]) });
 
 impl Not for AvxMask8 {
     type Output = AvxMask8;
@@ -80,21 +80,21 @@ macro_rules! compare {
 }
 
 impl Wide for Avx8 {
-    const LANES: usize = EIGHT;
+    const LANES: usize = crate::simd::LANES;
     type Row = Row8;
     type Mask = AvxMask8;
     // SAFETY: eight zero words are a valid __m256.
     const NONE: AvxMask8 =
-        AvxMask8(unsafe { std::mem::transmute::<[i32; EIGHT], __m256>([0; EIGHT]) });
+        AvxMask8(unsafe { std::mem::transmute::<[i32; LANES], __m256>([0; LANES]) });
 
     fn row(value: impl Fn(usize) -> f32) -> Row8 {
         Row8(std::array::from_fn(value))
     }
 
     fn mask(flag: impl Fn(usize) -> bool) -> AvxMask8 {
-        let words: [i32; EIGHT] = std::array::from_fn(|l| -i32::from(flag(l)));
+        let words: [i32; LANES] = std::array::from_fn(|l| -i32::from(flag(l)));
         // SAFETY: eight words are the 32 bytes of an __m256.
-        AvxMask8(unsafe { std::mem::transmute::<[i32; EIGHT], __m256>(words) })
+        AvxMask8(unsafe { std::mem::transmute::<[i32; LANES], __m256>(words) })
     }
 
     #[inline(always)]
@@ -111,7 +111,7 @@ impl Wide for Avx8 {
 
     #[inline(always)]
     fn lane(self, l: usize) -> f32 {
-        let mut all = [0.0; EIGHT];
+        let mut all = [0.0; LANES];
         // SAFETY: as for the operators; `all` holds eight floats.
         unsafe { _mm256_storeu_ps(all.as_mut_ptr(), self.0) };
         all[l]
@@ -124,7 +124,7 @@ impl Wide for Avx8 {
 
     #[inline(always)]
     fn least(self) -> f32 {
-        let mut all = [0.0f32; EIGHT];
+        let mut all = [0.0f32; LANES];
         // SAFETY: as for `lane`.
         unsafe { _mm256_storeu_ps(all.as_mut_ptr(), self.0) };
         all.into_iter()

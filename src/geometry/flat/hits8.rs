@@ -12,11 +12,12 @@
 //! the Cornell box 12 % of its rate; built here, next to the crossings of
 //! [`super::rays8`], the box renders 1.085x as fast as one at a time.
 
-use super::rays8::{Nearest8, RAYS};
-use crate::geometry::primitives::Primitive;
+use super::rays8::Nearest8;
+use crate::geometry::primitive::Primitive;
 #[cfg(target_arch = "x86_64")]
 use crate::geometry::ray::gamma;
 use crate::geometry::Ray;
+use crate::simd::LANES;
 
 /// Rows of the face table: the rect flag, the outward normal, the corner
 /// (for a rect, its plane coordinate on the normal axis), the two edges.
@@ -42,9 +43,9 @@ pub(super) struct Faces {
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(32))]
 pub struct Hits8 {
-    pub point: [[f32; RAYS]; 3],
-    pub error: [[f32; RAYS]; 3],
-    pub normal: [[f32; RAYS]; 3],
+    pub point: [[f32; LANES]; 3],
+    pub error: [[f32; LANES]; 3],
+    pub normal: [[f32; LANES]; 3],
 }
 
 impl Faces {
@@ -80,9 +81,9 @@ impl Faces {
     /// The hits at the crossings `near` of `rays`, written into `out`;
     /// false (and `out` untouched) where the CPU lacks AVX2.
     #[inline]
-    pub(super) fn hits(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) -> bool {
+    pub(super) fn hits(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if super::rays8::avx2() {
+        if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
             unsafe { self.hits_avx2(rays, near, out) };
             return true;
@@ -94,17 +95,17 @@ impl Faces {
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn hits_avx2(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) {
+    unsafe fn hits_avx2(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
         use std::arch::x86_64::*;
         use std::mem::transmute;
         let blank = (self.stride - 1) as i32;
         // SAFETY (every intrinsic below): the caller guarantees AVX2.
-        let slots: __m256i = transmute::<[u32; RAYS], __m256i>(near.slot);
+        let slots: __m256i = transmute::<[u32; LANES], __m256i>(near.slot);
         // `u32::MAX` (no crossing) is -1 as a signed lane: the blank face.
         let slots = _mm256_blendv_epi8(slots, _mm256_set1_epi32(blank), slots);
         // SAFETY: every slot is at most `blank`, within each row.
         let row = |r: usize| _mm256_i32gather_ps::<4>(self.rows[r * self.stride..].as_ptr(), slots);
-        let lanes = |v: [f32; RAYS]| transmute::<[f32; RAYS], __m256>(v);
+        let lanes = |v: [f32; LANES]| transmute::<[f32; LANES], __m256>(v);
         let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
         let (t, u, v) = (lanes(near.t), lanes(near.u), lanes(near.v));
         let zero = _mm256_setzero_ps();

@@ -29,14 +29,15 @@ mod hits8;
 mod rays8;
 mod wide;
 
-use super::primitives::Primitive;
+use super::primitive::Primitive;
 use super::shapes::{Crossing, Quad, Rect};
 use super::Ray;
+use crate::simd::LANES;
 #[cfg(target_arch = "x86_64")]
-use avx512::{avx512, Lanes16};
+use avx512::Lanes16;
 use glam::Vec3;
 pub use hits8::Hits8;
-pub use rays8::{Nearest8, RAYS};
+pub use rays8::Nearest8;
 use wide::{Lanes8, Wide};
 
 /// Most faces a set may hold to be tested in passes rather than walked:
@@ -229,7 +230,7 @@ impl FlatFaces {
     /// parallelogram and there are at most [`MAX_FACES`].
     pub fn new(prims: &[Primitive]) -> Option<FlatFaces> {
         #[cfg(target_arch = "x86_64")]
-        let packs = if avx512() {
+        let packs = if crate::simd::avx512f() {
             Width::Sixteen(Packs::new(prims)?)
         } else {
             Width::Eight(Packs::new(prims)?)
@@ -249,7 +250,7 @@ impl FlatFaces {
         match &self.packs {
             Width::Eight(p) => {
                 #[cfg(target_arch = "x86_64")]
-                if super::bvh::avx() {
+                if crate::simd::avx() {
                     // SAFETY: the CPU has AVX.
                     return unsafe { p.nearest_avx(ray, t_min, t_max) };
                 }
@@ -265,7 +266,7 @@ impl FlatFaces {
     /// [`FlatFaces::nearest`] for eight rays, ray `l` in lane `l`, bit for
     /// bit.
     #[inline]
-    pub fn nearest8(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    pub fn nearest8(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         self.each.nearest(rays, t_min, t_max)
     }
 
@@ -273,7 +274,7 @@ impl FlatFaces {
     /// ([`FlatFaces::nearest8`]), as the one-ray hits give them, written
     /// into `out`; false where the CPU lacks AVX2.
     #[inline]
-    pub fn hits8(&self, rays: &[Ray; RAYS], near: &Nearest8, out: &mut Hits8) -> bool {
+    pub fn hits8(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) -> bool {
         self.faces.hits(rays, near, out)
     }
 
@@ -283,7 +284,7 @@ impl FlatFaces {
         match &self.packs {
             Width::Eight(p) => {
                 #[cfg(target_arch = "x86_64")]
-                if super::bvh::avx() {
+                if crate::simd::avx() {
                     // SAFETY: the CPU has AVX.
                     return unsafe { p.occluded_avx(ray, t_min, t_max) };
                 }
@@ -619,7 +620,8 @@ mod tests {
             let flat = FlatFaces::new(&prims).expect("rects and parallelograms only");
             let eight = Packs::<Lanes8>::new(&prims).expect("rects and parallelograms only");
             #[cfg(target_arch = "x86_64")]
-            let sixteen = avx512().then(|| Packs::<Lanes16>::new(&prims).expect("packed"));
+            let sixteen =
+                crate::simd::avx512f().then(|| Packs::<Lanes16>::new(&prims).expect("packed"));
             for ray in rays(&prims, at, size, &mut r) {
                 let want = one_by_one(&prims, &ray, 0.0, f32::INFINITY);
                 let grazed = || prims.iter().any(|p| edge_distance(p, &ray) < GRAZE);
@@ -692,8 +694,8 @@ mod tests {
     }
 
     /// Rays in groups of eight, as the lanes trace them.
-    fn eights(rays: &[Ray]) -> impl Iterator<Item = [Ray; RAYS]> + '_ {
-        rays.chunks_exact(RAYS)
+    fn eights(rays: &[Ray]) -> impl Iterator<Item = [Ray; LANES]> + '_ {
+        rays.chunks_exact(LANES)
             .map(|c| std::array::from_fn(|l| c[l]))
     }
 
@@ -744,7 +746,7 @@ mod tests {
             (vec![q, r, q, q], 0),
         ] {
             let flat = FlatFaces::new(&prims).expect("flat");
-            let eight: [Ray; RAYS] = std::array::from_fn(|_| {
+            let eight: [Ray; LANES] = std::array::from_fn(|_| {
                 let target = Vec3::new(0.1 + 0.8 * rng(), 0.1 + 0.8 * rng(), 0.0);
                 let from = Vec3::new(rng(), rng(), 2.0 + rng());
                 Ray::new(from, target - from, 0.0)
@@ -768,11 +770,11 @@ mod tests {
         // The parallelograms alone: slot 1 in the second chain, 2 in the first.
         let flat = FlatFaces::new(&[r, q, q]).expect("flat");
         let down = Ray::new(Vec3::new(0.5, 0.5, 1.0), -Vec3::Z, 0.0);
-        let near = flat.nearest8(&[down; RAYS], 0.0, f32::INFINITY);
-        assert_eq!(near.slot, [0; RAYS]);
+        let near = flat.nearest8(&[down; LANES], 0.0, f32::INFINITY);
+        assert_eq!(near.slot, [0; LANES]);
         let flat = FlatFaces::new(&[q, q]).expect("flat");
-        let near = flat.nearest8(&[down; RAYS], 0.0, f32::INFINITY);
-        assert_eq!(near.slot, [0; RAYS]);
+        let near = flat.nearest8(&[down; LANES], 0.0, f32::INFINITY);
+        assert_eq!(near.slot, [0; LANES]);
     }
 
     #[test]
@@ -801,7 +803,7 @@ mod tests {
                         _ => unreachable!("a flat set holds rects and parallelograms"),
                     };
                     let want = facing(h, h.normal, ray.dir, MaterialId(0), LightId::NONE);
-                    let lane = |v: &[[f32; RAYS]; 3]| Vec3::new(v[0][l], v[1][l], v[2][l]);
+                    let lane = |v: &[[f32; LANES]; 3]| Vec3::new(v[0][l], v[1][l], v[2][l]);
                     let bits = |v: Vec3| v.to_array().map(f32::to_bits);
                     assert_eq!(bits(lane(&hits.point)), bits(want.point), "{ray:?}");
                     assert_eq!(bits(lane(&hits.error)), bits(want.error), "{ray:?}");
@@ -836,7 +838,7 @@ mod tests {
             let (mut side, mut each) = (Hits8::default(), Hits8::default());
             set.flat_hits8(&eight, &near, &mut side);
             set.flat_hits_each(&eight, &near, &mut each);
-            for l in (0..RAYS).filter(|&l| near.crossing(l).is_some()) {
+            for l in (0..LANES).filter(|&l| near.crossing(l).is_some()) {
                 for a in 0..3 {
                     let bits = |h: &Hits8| {
                         [h.point[a][l], h.error[a][l], h.normal[a][l]].map(f32::to_bits)

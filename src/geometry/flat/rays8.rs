@@ -19,37 +19,35 @@
 //! eighteen faces (1.03x the Cornell box's rate).
 
 #[cfg(target_arch = "x86_64")]
-use super::avx512::{avx512, Lanes16};
+use super::avx512::Lanes16;
 #[cfg(target_arch = "x86_64")]
 use super::avx8::Avx8;
 use super::wide::{Lanes8, Wide};
 use super::{by_kind, quad_pack, rect_pack, within_unit, Best, QuadPack, RayLanes, RectPack};
 use glam::Vec3;
 
-use crate::geometry::primitives::Primitive;
+use crate::geometry::primitive::Primitive;
 use crate::geometry::shapes::Crossing;
 use crate::geometry::Ray;
-
-/// Rays per pass.
-pub const RAYS: usize = 8;
+use crate::simd::LANES;
 
 /// Each lane's nearest crossing: its face's slot (`u32::MAX` for none),
 /// distance, and a parallelogram's `(u, v)` (zero for a rect).
 #[derive(Clone, Copy, Debug)]
 pub struct Nearest8 {
-    pub slot: [u32; RAYS],
-    pub t: [f32; RAYS],
-    pub u: [f32; RAYS],
-    pub v: [f32; RAYS],
+    pub slot: [u32; LANES],
+    pub t: [f32; LANES],
+    pub u: [f32; LANES],
+    pub v: [f32; LANES],
 }
 
 impl Nearest8 {
     /// No lane with a crossing.
     pub const NONE: Nearest8 = Nearest8 {
-        slot: [u32::MAX; RAYS],
-        t: [0.0; RAYS],
-        u: [0.0; RAYS],
-        v: [0.0; RAYS],
+        slot: [u32::MAX; LANES],
+        t: [0.0; LANES],
+        u: [0.0; LANES],
+        v: [0.0; LANES],
     };
 
     /// Lane `l`'s crossing and its slot, as [`super::FlatFaces::nearest`]
@@ -86,11 +84,11 @@ impl Each {
     /// holds).
     pub(super) fn new(prims: &[Primitive]) -> Each {
         #[cfg(target_arch = "x86_64")]
-        if avx512() {
+        if crate::simd::avx512f() {
             return Each::Avx512(Faces::new(prims));
         }
         #[cfg(target_arch = "x86_64")]
-        if avx2() {
+        if crate::simd::avx2() {
             return Each::Avx2(Faces::new(prims));
         }
         Each::Portable(Faces::new(prims))
@@ -98,7 +96,7 @@ impl Each {
 
     /// Each ray's nearest crossing with `t` in `(t_min, t_max)`.
     #[inline]
-    pub(super) fn nearest(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    pub(super) fn nearest(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         match self {
             Each::Portable(f) => f.nearest(rays, t_min, t_max),
             // SAFETY: AVX faces are built only where the CPU has AVX2.
@@ -128,7 +126,7 @@ impl Faces<Avx8> {
     /// # Safety
     /// The CPU must support AVX2.
     #[target_feature(enable = "avx2")]
-    unsafe fn nearest_avx2(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    unsafe fn nearest_avx2(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         self.nearest(rays, t_min, t_max)
     }
 }
@@ -140,7 +138,7 @@ impl Faces<Lanes16> {
     /// # Safety
     /// The CPU must support AVX-512F.
     #[target_feature(enable = "avx512f")]
-    unsafe fn nearest_avx512(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    unsafe fn nearest_avx512(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         self.nearest(rays, t_min, t_max)
     }
 }
@@ -148,7 +146,7 @@ impl Faces<Lanes16> {
 impl<W: Wide> Faces<W> {
     pub(super) fn new(prims: &[Primitive]) -> Faces<W> {
         let (rects, quads) = by_kind(prims).unwrap_or_default();
-        let per_pass = W::LANES / RAYS;
+        let per_pass = W::LANES / LANES;
         Faces {
             rects: rects
                 .chunks(per_pass)
@@ -162,7 +160,7 @@ impl<W: Wide> Faces<W> {
     }
 
     #[inline(always)]
-    fn nearest(&self, rays: &[Ray; RAYS], t_min: f32, t_max: f32) -> Nearest8 {
+    fn nearest(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Nearest8 {
         let r = lanes_of::<W>(rays);
         let t_min = W::splat(t_min);
         let zero = W::splat(0.0);
@@ -191,7 +189,7 @@ impl<W: Wide> Faces<W> {
             best.nearest_of(other);
         }
         // Sixteen lanes: the second face's half against the first's.
-        if W::LANES > RAYS {
+        if W::LANES > LANES {
             let upper = Best {
                 t: best.t.upper_half(),
                 slot: best.slot.upper_half(),
@@ -204,7 +202,7 @@ impl<W: Wide> Faces<W> {
         // without the caller's AVX-512F, and called the lane stores as
         // functions (with `lanes_of`, 5 % of a Cornell render).
         let mut near = Nearest8::NONE;
-        for l in 0..RAYS {
+        for l in 0..LANES {
             near.slot[l] = best.slot(l);
             near.t[l] = best.t.lane(l);
             near.u[l] = best.u.lane(l);
@@ -216,7 +214,7 @@ impl<W: Wide> Faces<W> {
 
 /// Each face in eight lanes, in order.
 fn spread<F: Copy>(faces: &[(u32, F)]) -> Vec<(u32, F)> {
-    faces.iter().flat_map(|f| [*f; RAYS]).collect()
+    faces.iter().flat_map(|f| [*f; LANES]).collect()
 }
 
 /// The rays' origins and directions, ray `l` in lane `l` (and in lane
@@ -225,9 +223,9 @@ fn spread<F: Copy>(faces: &[(u32, F)]) -> Vec<(u32, F)> {
 /// line, compiled without the caller's AVX-512F, and called the vector
 /// load as a function.
 #[inline(always)]
-fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
-    let mut o = [[0.0f32; RAYS]; 3];
-    let mut d = [[0.0f32; RAYS]; 3];
+fn lanes_of<W: Wide>(rays: &[Ray; LANES]) -> RayLanes<W> {
+    let mut o = [[0.0f32; LANES]; 3];
+    let mut d = [[0.0f32; LANES]; 3];
     for (l, ray) in rays.iter().enumerate() {
         for a in 0..3 {
             o[a][l] = ray.origin[a];
@@ -235,20 +233,13 @@ fn lanes_of<W: Wide>(rays: &[Ray; RAYS]) -> RayLanes<W> {
         }
     }
     let (o, d) = (
-        o.map(|v| W::row(|l| v[l % RAYS])),
-        d.map(|v| W::row(|l| v[l % RAYS])),
+        o.map(|v| W::row(|l| v[l % LANES])),
+        d.map(|v| W::row(|l| v[l % LANES])),
     );
     RayLanes {
         o: [W::load(&o[0]), W::load(&o[1]), W::load(&o[2])],
         d: [W::load(&d[0]), W::load(&d[1]), W::load(&d[2])],
     }
-}
-
-/// Whether the passes take AVX registers: eight lanes of masks need
-/// 256-bit integer operations, which AVX alone splits in halves.
-#[cfg(target_arch = "x86_64")]
-pub(super) fn avx2() -> bool {
-    std::arch::is_x86_feature_detected!("avx2")
 }
 
 #[cfg(test)]
@@ -262,10 +253,10 @@ pub(super) mod tests {
         let mut forms = vec![Each::Portable(Faces::new(prims))];
         #[cfg(target_arch = "x86_64")]
         {
-            if avx2() {
+            if crate::simd::avx2() {
                 forms.push(Each::Avx2(Faces::new(prims)));
             }
-            if avx512() {
+            if crate::simd::avx512f() {
                 forms.push(Each::Avx512(Faces::new(prims)));
             }
         }

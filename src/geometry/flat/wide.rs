@@ -7,6 +7,8 @@ use std::array::from_fn;
 use std::fmt::Debug;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
+use crate::simd::LANES;
+
 /// A vector of floats, one per face of a pack, with the IEEE operations of
 /// the scalar tests lane by lane, so that every width gives each face the
 /// same bits.
@@ -50,18 +52,15 @@ pub(super) trait Wide:
     fn any(m: Self::Mask) -> bool;
 }
 
-/// Eight lanes.
-const EIGHT: usize = 8;
-
 /// Eight floats. Each operation is a loop over the lanes with no branch.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
-pub(super) struct Lanes8([f32; EIGHT]);
+pub(super) struct Lanes8([f32; LANES]);
 
 /// An eight-lane mask: all bits set where true.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
-pub(super) struct Mask8([i32; EIGHT]);
+pub(super) struct Mask8([i32; LANES]);
 
 /// A lane-by-lane operator of one of the two lane types.
 macro_rules! lane_op {
@@ -104,15 +103,15 @@ impl Mask8 {
         use std::arch::x86_64::{__m256, _mm256_movemask_ps};
         // SAFETY: eight i32 are the 32 bytes of an __m256; the caller
         // guarantees AVX.
-        unsafe { _mm256_movemask_ps(std::mem::transmute::<[i32; EIGHT], __m256>(self.0)) as u32 }
+        unsafe { _mm256_movemask_ps(std::mem::transmute::<[i32; LANES], __m256>(self.0)) as u32 }
     }
 }
 
 impl Wide for Lanes8 {
-    const LANES: usize = EIGHT;
+    const LANES: usize = crate::simd::LANES;
     type Row = Lanes8;
     type Mask = Mask8;
-    const NONE: Mask8 = Mask8([0; EIGHT]);
+    const NONE: Mask8 = Mask8([0; LANES]);
 
     fn row(value: impl Fn(usize) -> f32) -> Lanes8 {
         Lanes8(from_fn(value))
@@ -129,7 +128,7 @@ impl Wide for Lanes8 {
 
     #[inline(always)]
     fn splat(x: f32) -> Lanes8 {
-        Lanes8([x; EIGHT])
+        Lanes8([x; LANES])
     }
 
     #[inline(always)]
@@ -182,7 +181,7 @@ impl Wide for Lanes8 {
             return unsafe { m.bits_avx() };
         }
         let mut bits = 0;
-        for l in 0..EIGHT {
+        for l in 0..LANES {
             bits |= (m.0[l] as u32 & 1) << l;
         }
         bits

@@ -14,7 +14,7 @@ pub mod turned_sphere;
 
 use glam::{BVec3, Vec3};
 
-use super::hit::SurfaceUv;
+use super::uv::SurfaceUv;
 
 pub use cuboid::Cuboid;
 pub use plane::Plane;

@@ -1,13 +1,11 @@
 //! Spheres, intersected with the numerically stable quadratic so that huge and
 //! tiny radii keep their precision.
 
-use std::f32::consts::PI;
-
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::{Crossing, ShapeHit};
-use crate::geometry::hit::SurfaceUv;
 use crate::geometry::ray::gamma;
+use crate::geometry::uv::SurfaceUv;
 use crate::geometry::{Aabb, Ray};
 
 /// Relative margin of the early miss test, far above its rounding error
@@ -83,7 +81,7 @@ impl Sphere {
 
     /// Both roots of the ray's line, after the early miss test of
     /// [`Sphere::intersect`]; `None` when the line misses. Always inlined,
-    /// as [`crate::geometry::primitives::Primitive::crossing`] is.
+    /// as [`crate::geometry::primitive::Primitive::crossing`] is.
     #[inline(always)]
     pub fn roots(&self, ray: &Ray) -> Option<Roots> {
         let f = ray.origin - self.center;
@@ -185,15 +183,10 @@ impl Roots {
     }
 }
 
-/// (u, v) of a unit vector: u the angle about y from −x, v from the south pole.
-pub fn sphere_uv(n: Vec3) -> Vec2 {
-    let theta = (-n.y).clamp(-1.0, 1.0).acos();
-    let phi = (-n.z).atan2(n.x) + PI;
-    Vec2::new(phi / (2.0 * PI), theta / PI)
-}
-
 #[cfg(test)]
 mod tests {
+    use glam::Vec2;
+
     use super::*;
     use crate::geometry::ray::offset_origin;
 

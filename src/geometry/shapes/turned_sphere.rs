@@ -7,7 +7,7 @@
 use glam::Quat;
 
 use super::{Crossing, ShapeHit, Sphere};
-use crate::geometry::hit::SurfaceUv;
+use crate::geometry::uv::SurfaceUv;
 use crate::geometry::{Aabb, Ray};
 
 /// A sphere whose uv frame is turned by `to_object` (parent → object).

@@ -1,6 +1,8 @@
 //! Calls of built-in functions: checked against the signatures of
 //! [`crate::lang::builtins::TABLE`], then evaluated through its entries; the
 //! evaluators of colours, textures and materials the table points at.
+//! The table imports this module's functions back (see the header of
+//! [`crate::lang::builtins`] for why that circle is kept).
 
 use crate::lang::codes::Code;
 use std::rc::Rc;
