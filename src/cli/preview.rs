@@ -52,6 +52,7 @@ pub fn run(args: PreviewArgs) -> ExitCode {
         scene: args.scene,
         options: rtlang::lang::Options {
             defines: args.define,
+            stop: Some(stop),
             ..rtlang::lang::Options::default()
         },
         bind: args.bind,
