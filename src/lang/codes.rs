@@ -68,6 +68,7 @@ codes! {
     MemoryBudget = "rtlang::memory-budget",
     StepBudget = "rtlang::step-budget",
     Interrupted = "rtlang::interrupted",
+    LightFacingAway = "rtlang::light-facing-away",
     MotionNotFinite = "rtlang::motion-not-finite",
     MotionUnproven = "rtlang::motion-unproven",
 }

@@ -10,6 +10,7 @@ mod builtins;
 mod convert;
 mod defs;
 mod exprs;
+mod facing;
 mod files;
 mod functions;
 mod issue;
@@ -393,6 +394,7 @@ impl Evaluator {
         self.finish_settings();
         self.check_motions();
         self.check_limits();
+        self.check_light_facing();
         self.check_unused();
         self.warn_unused_fns();
     }
