@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use clap::{Args, ValueEnum};
 
 use rtlang::lang::{self, Options};
+use rtlang::render::interrupt;
 
 /// How diagnostics are printed.
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -34,13 +35,22 @@ pub struct CheckArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Human)]
     format: Format,
+    /// Steps evaluation may take (expressions, objects, loop iterations,
+    /// calls); a scene that needs more is refused.
+    #[arg(long, value_name = "STEPS", default_value_t = lang::DEFAULT_STEP_BUDGET)]
+    step_budget: u64,
 }
 
 /// Runs `rtlang check`.
 pub fn run(args: CheckArgs) -> ExitCode {
+    let stop = interrupt::stop_flag()
+        .map_err(|e| errln!("warning: cannot catch interrupts ({e})"))
+        .ok();
     let options = Options {
         defines: args.define,
         frame: args.frame,
+        step_budget: args.step_budget,
+        stop,
         ..Options::default()
     };
     let mut errors = false;
@@ -64,7 +74,9 @@ pub fn run(args: CheckArgs) -> ExitCode {
             }
         }
     }
-    if errors {
+    if interrupt::stopped() {
+        ExitCode::from(super::INTERRUPTED)
+    } else if errors {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

@@ -20,6 +20,9 @@ mod split;
 
 use std::process::ExitCode;
 
+/// The exit status of a command stopped by a signal (128 + SIGINT).
+const INTERRUPTED: u8 = 130;
+
 use clap::{Parser, Subcommand};
 
 /// rtlang: a scene-description language and a physically based path tracer.

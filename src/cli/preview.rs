@@ -59,6 +59,7 @@ pub fn run(args: PreviewArgs) -> ExitCode {
         scene: args.scene,
         options: rtlang::lang::Options {
             defines: args.define,
+            stop: Some(stop),
             ..rtlang::lang::Options::default()
         },
         bind: args.bind,

@@ -106,6 +106,10 @@ pub struct RenderArgs {
     /// GiB (default 16); a scene estimated above it is refused.
     #[arg(long, value_name = "GIB", value_parser = parse_budget)]
     memory_budget: Option<f64>,
+    /// Steps evaluating the scene may take (expressions, objects, loop
+    /// iterations, calls); a scene that needs more is refused.
+    #[arg(long, value_name = "STEPS", default_value_t = rtlang::lang::DEFAULT_STEP_BUDGET)]
+    step_budget: u64,
     /// Write the sidecar `OUTPUT.json` that `rtlang merge` reads even for a
     /// whole single render (`--tile`, `--crop`, `--pass` and `--checkpoint`
     /// always write it).
@@ -249,8 +253,7 @@ enum Failure {
 /// Samples per pixel a `--time` render may reach when `--spp` sets no cap.
 const TIME_BUDGET_SPP_CAP: u32 = 1 << 20;
 
-/// The exit status of a render stopped by a signal (128 + SIGINT).
-const INTERRUPTED: u8 = 130;
+use super::INTERRUPTED;
 
 /// Runs the command.
 pub fn run(args: RenderArgs) -> ExitCode {
@@ -392,12 +395,17 @@ fn load_frame(args: &RenderArgs, frame: i64) -> Result<rtlang::lang::Loaded, Fai
         defines: args.define.clone(),
         frame: frame as f64,
         fps: args.fps,
+        step_budget: args.step_budget,
+        stop: interrupt::stop_flag().ok(),
         ..rtlang::lang::Options::default()
     };
     if let Some(gib) = args.memory_budget {
         lang_options.memory_budget = (gib * (1u64 << 30) as f64) as u64;
     }
     let loaded = rtlang::lang::load_scene_with(&args.scene, &lang_options).map_err(|reports| {
+        if interrupt::stopped() {
+            return Failure::Interrupted;
+        }
         for r in reports {
             errln!("{r:?}");
         }

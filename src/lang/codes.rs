@@ -66,8 +66,23 @@ codes! {
     FileTooLarge = "rtlang::file-too-large",
     Unused = "rtlang::unused",
     MemoryBudget = "rtlang::memory-budget",
+    StepBudget = "rtlang::step-budget",
+    Interrupted = "rtlang::interrupted",
+    LightFacingAway = "rtlang::light-facing-away",
     MotionNotFinite = "rtlang::motion-not-finite",
     MotionUnproven = "rtlang::motion-unproven",
+}
+
+impl Code {
+    /// Whether an error of this code ends evaluation (a budget or depth
+    /// limit, or a stop request): it is reported first, as the cause of
+    /// whatever else was found.
+    pub fn ends_evaluation(self) -> bool {
+        matches!(
+            self,
+            Code::TooDeep | Code::MemoryBudget | Code::StepBudget | Code::Interrupted
+        )
+    }
 }
 
 impl fmt::Display for Code {

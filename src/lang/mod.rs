@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use crate::scene::Scene;
 
 pub use diagnostics::{Diagnostic, Severity};
-pub use eval::{budget, random, Options, Outcome, PREDEFINED};
+pub use eval::{budget, random, Options, Outcome, DEFAULT_STEP_BUDGET, PREDEFINED};
 pub use source::{SourceMap, Span};
 
 /// A scene compiled from source, with the warnings found on the way.
@@ -73,12 +73,13 @@ pub fn load_scene_with(path: &Path, options: &Options) -> Result<Loaded, Vec<mie
 }
 
 /// Parses and evaluates the scene at `path`, returning all diagnostics
-/// (errors first within each file, in source order) and the scene if there
-/// was no error.
+/// (the error that ended evaluation first, then the others in source order)
+/// and the scene if there was no error.
 pub fn check(path: &Path, options: &Options) -> Outcome {
     let mut outcome = eval::evaluate(path, options);
     outcome.diagnostics.sort_by_key(|d| {
         (
+            !(d.is_error() && d.code.ends_evaluation()),
             d.span.is_some(),
             d.span.map(|s| (s.file, s.start)).unwrap_or_default(),
         )

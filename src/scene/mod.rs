@@ -9,6 +9,7 @@
 pub mod camera;
 pub mod curve;
 pub mod digest;
+pub mod facing;
 pub mod file;
 pub mod image;
 pub mod material;

@@ -139,7 +139,7 @@ impl Evaluator {
             return Ok(());
         }
         self.memory.refused = true;
-        Err(self.report(
+        Err(self.halt(
             Diagnostic::error(
                 Code::MemoryBudget,
                 span,

@@ -50,6 +50,9 @@ impl Evaluator {
         span: Span,
     ) -> Eval<&'static Builtin> {
         let Some(sig) = crate::lang::builtins::get(&callee.name) else {
+            if let Some(fail) = self.not_a_function(callee, args) {
+                return Err(fail);
+            }
             let mut candidates: Vec<&str> = crate::lang::builtins::names().collect();
             candidates.extend(self.funcs.iter().map(|f| f.def.name.name.as_str()));
             let help = match names::suggest(&callee.name, candidates) {
@@ -146,7 +149,9 @@ impl Evaluator {
         if let Some(&index) = self.func_index.get(&callee.name) {
             return self.user_call(index, args, span);
         }
-        let sig = self.check_call(callee, args, span)?;
+        let sig = self.check_call(callee, args, span).inspect_err(|_| {
+            self.mark_used(args);
+        })?;
         let mut positional = Vec::new();
         let mut named = Vec::new();
         let mut failed = false;

@@ -211,7 +211,7 @@ impl Evaluator {
 
     /// The value of a name in an expression.
     pub(super) fn lookup(&mut self, name: &str, span: Span) -> Eval<Value> {
-        if let Some((_, v)) = self.locals.iter().rev().find(|(n, _)| n == name) {
+        if let Some((_, v)) = self.visible_locals().rev().find(|(n, _)| n == name) {
             return Ok(v.clone());
         }
         if let Some(&index) = self.def_index.get(name) {
@@ -286,8 +286,11 @@ impl Evaluator {
             // Most likely defined in the include that could not be read.
             return Fail;
         }
+        if let Some(fail) = self.caller_name(name, span) {
+            return fail;
+        }
         let mut candidates: Vec<&str> = self.defs.iter().map(|d| d.name.name.as_str()).collect();
-        candidates.extend(self.locals.iter().map(|(n, _)| n.as_str()));
+        candidates.extend(self.visible_locals().map(|(n, _)| n.as_str()));
         candidates.extend(PREDEFINED);
         let time = matches!(name, "time" | "shutter_time" | "T");
         let help = match names::suggest(name, candidates) {
@@ -344,7 +347,7 @@ impl Evaluator {
             DefState::Pending => {}
         }
         if self.def_stack.len() >= MAX_DEF_DEPTH {
-            return Err(self.report(
+            return Err(self.halt(
                 Diagnostic::error(
                     Code::TooDeep,
                     span,
@@ -356,10 +359,12 @@ impl Evaluator {
         self.defs[index].state = DefState::Active;
         self.def_stack.push(index);
         let expr = self.defs[index].value.clone();
-        let locals = std::mem::take(&mut self.locals);
+        let scope = std::mem::replace(&mut self.scope, self.locals.len());
+        let scope_fn = self.scope_fn.take();
         let loops = std::mem::take(&mut self.loops);
         let result = self.expr(&expr);
-        self.locals = locals;
+        self.scope = scope;
+        self.scope_fn = scope_fn;
         self.loops = loops;
         self.def_stack.pop();
         self.defs[index].state = match &result {

@@ -6,6 +6,7 @@ use std::rc::Rc;
 
 use glam::{DVec2, DVec3};
 
+use super::steps::Site;
 use super::value::{self, Value};
 use super::{Eval, Evaluator};
 use crate::lang::ast::{Expr, ExprKind};
@@ -15,6 +16,7 @@ use crate::scene::image::srgb_to_linear;
 impl Evaluator {
     /// The value of an expression outside motion blocks.
     pub(super) fn expr(&mut self, e: &Expr) -> Eval<Value> {
+        self.step(1, e.span)?;
         match &e.kind {
             ExprKind::Number(v) => Ok(Value::Num(*v)),
             ExprKind::Str(s) => Ok(Value::Str(s.as_str().into())),
@@ -54,11 +56,15 @@ impl Evaluator {
             }
             ExprKind::If(cond, then, otherwise) => {
                 let v = self.expr(cond)?;
-                if self.condition(&v, cond.span)? {
-                    self.expr(then)
+                let branch = if self.condition(&v, cond.span)? {
+                    then
                 } else {
-                    self.expr(otherwise)
-                }
+                    otherwise
+                };
+                self.enter(Site::Branch);
+                let r = self.expr(branch);
+                self.leave();
+                r
             }
             ExprKind::Object(o) => {
                 let node = self.object(o)?;

@@ -9,6 +9,8 @@ use std::collections::HashSet;
 use std::rc::Rc;
 
 use super::builtins::positional_after_keyword;
+use super::repeats::Frame;
+use super::steps::Site;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{
@@ -26,6 +28,8 @@ pub const MAX_CALL_DEPTH: usize = 256;
 pub(super) struct Func {
     pub def: Rc<Function>,
     pub used: bool,
+    /// How many times it has been called (for the step budget's error).
+    pub calls: u64,
     /// The names its body and defaults mention.
     mentions: Vec<String>,
 }
@@ -106,6 +110,7 @@ impl Evaluator {
         self.funcs.push(Func {
             def: Rc::new(f.clone()),
             used: false,
+            calls: 0,
             mentions,
         });
     }
@@ -308,7 +313,7 @@ impl Evaluator {
         if self.call_depth < MAX_CALL_DEPTH {
             return Ok(());
         }
-        Err(self.report(
+        Err(self.halt(
             Diagnostic::error(
                 Code::TooDeep,
                 span,
@@ -344,8 +349,14 @@ impl Evaluator {
         let def = self.funcs[index].def.clone();
         let bound = self.bind(&def, args, span, |ev, e| ev.expr(e))?;
         self.check_call_depth(&def, span)?;
+        self.step(1, span)?;
+        self.funcs[index].calls += 1;
         let start = self.diagnostics.len();
-        let outer = std::mem::take(&mut self.locals);
+        let base = self.locals.len();
+        let outer = std::mem::replace(&mut self.scope, base);
+        let outer_fn = self.scope_fn.replace(index);
+        self.calls.push(Frame { func: index, base });
+        self.enter(Site::Call { func: index, span });
         self.call_depth += 1;
         let mut result = Ok(Value::Num(0.0));
         for b in bound {
@@ -366,7 +377,11 @@ impl Evaluator {
             result = self.expr(&def.body);
         }
         self.call_depth -= 1;
-        self.locals = outer;
+        self.leave();
+        self.calls.pop();
+        self.locals.truncate(base);
+        self.scope = outer;
+        self.scope_fn = outer_fn;
         if result.is_err() {
             self.note_call_site(start, &def, span);
         }
@@ -376,7 +391,7 @@ impl Evaluator {
 
 /// Every name an expression mentions (values, placed names), nested
 /// objects included.
-fn expr_names<'a>(e: &'a Expr, out: &mut HashSet<&'a str>) {
+pub(super) fn expr_names<'a>(e: &'a Expr, out: &mut HashSet<&'a str>) {
     match &e.kind {
         ExprKind::Name(n) => {
             out.insert(n);
@@ -384,7 +399,10 @@ fn expr_names<'a>(e: &'a Expr, out: &mut HashSet<&'a str>) {
         ExprKind::Tuple(items) | ExprKind::List(items) | ExprKind::Bezier(items) => {
             items.iter().for_each(|i| expr_names(i, out));
         }
-        ExprKind::Call { args, .. } => args.iter().for_each(|a| expr_names(&a.value, out)),
+        ExprKind::Call { callee, args } => {
+            out.insert(&callee.name);
+            args.iter().for_each(|a| expr_names(&a.value, out));
+        }
         ExprKind::Neg(x) | ExprKind::Not(x) => expr_names(x, out),
         ExprKind::If(a, b, c) => {
             expr_names(a, out);

@@ -17,6 +17,7 @@ mod builtins;
 mod convert;
 mod defs;
 mod exprs;
+mod facing;
 mod files;
 mod functions;
 mod issue;
@@ -25,13 +26,17 @@ mod math;
 mod motion;
 mod objects;
 mod props;
+mod repeats;
+mod roles;
 mod settings;
+mod steps;
 mod transforms;
 mod value;
 
 use crate::lang::codes::Code;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use crate::scene::motion::MotionStep;
@@ -46,6 +51,7 @@ pub(crate) use builtins::Args;
 pub use defs::PREDEFINED;
 pub(crate) use files::MAX_FILE_BYTES;
 pub use math::random;
+pub use steps::DEFAULT_STEP_BUDGET;
 pub(crate) use value::Value;
 
 /// What a scene is evaluated with besides its text.
@@ -59,6 +65,11 @@ pub struct Options {
     pub fps: f64,
     /// Bytes the scene's estimated memory may reach (see `budget.rs`).
     pub memory_budget: u64,
+    /// Steps evaluation may take (see `steps.rs`).
+    pub step_budget: u64,
+    /// Set by a signal handler (or an editor) to stop evaluation early;
+    /// polled as steps are counted.
+    pub stop: Option<&'static AtomicBool>,
     /// A file's text to use instead of what is on disk (an editor's buffer).
     pub overlay: Option<(PathBuf, Arc<str>)>,
     /// More files' texts to use instead of what is on disk (the editor's
@@ -76,6 +87,8 @@ impl Default for Options {
             frame: 0.0,
             fps: 24.0,
             memory_budget: budget::DEFAULT_BUDGET,
+            step_budget: DEFAULT_STEP_BUDGET,
+            stop: None,
             overlay: None,
             overlays: Vec::new(),
             assets: Arc::default(),
@@ -139,8 +152,14 @@ pub(crate) struct Evaluator {
     diagnostics: Vec<Diagnostic>,
     defs: Vec<Def>,
     def_index: HashMap<String, usize>,
-    /// Loop variables and function parameters in scope, innermost last.
+    /// Loop variables and function parameters, innermost last; only those
+    /// from `scope` on are visible (a call or a definition's value starts a
+    /// scope of its own).
     locals: Vec<(String, Value)>,
+    scope: usize,
+    /// The user function whose body is being evaluated, if the innermost
+    /// scope is a call's (not a definition's value).
+    scope_fn: Option<usize>,
     /// User-defined functions and their index by name.
     funcs: Vec<functions::Func>,
     func_index: HashMap<String, usize>,
@@ -154,8 +173,12 @@ pub(crate) struct Evaluator {
     /// The include that brought in each included file.
     included_from: HashMap<u32, Span>,
     /// The values of the `repeat` loops being run, outermost first (for
-    /// the "when i = 4" note of errors inside loops).
-    loops: Vec<(String, f64)>,
+    /// the "when i = 4" note of errors inside loops), with the span of
+    /// each loop variable.
+    loops: Vec<(String, f64, Span)>,
+    /// The user-function calls being evaluated, outermost first (for the
+    /// call chain of repeated errors).
+    calls: Vec<repeats::Frame>,
     /// Function calls being evaluated.
     call_depth: usize,
     /// Parameters of a function called inside a `motion`, as expressions
@@ -182,6 +205,13 @@ pub(crate) struct Evaluator {
     /// the camera (which may come later in the file) is known.
     motion_checks: Vec<(Span, MotionStep)>,
     memory: budget::Memory,
+    steps: steps::Steps,
+    /// Errors already reported, by place and code, for reporting an error
+    /// of repeated evaluation once.
+    seen: repeats::Seen,
+    /// A budget error (steps, memory, depth) or a stop request ended
+    /// evaluation: nothing more is evaluated or reported.
+    halted: bool,
 }
 
 /// Everything loaded or built once and shared.
@@ -226,6 +256,9 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
         defs: Vec::new(),
         def_index: HashMap::new(),
         locals: Vec::new(),
+        scope: 0,
+        scope_fn: None,
+        calls: Vec::new(),
         funcs: Vec::new(),
         func_index: HashMap::new(),
         call_depth: 0,
@@ -248,9 +281,13 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
         samples_span: None,
         motion_checks: Vec::new(),
         memory: budget::Memory::default(),
+        steps: steps::Steps::new(options),
+        seen: repeats::Seen::default(),
+        halted: false,
     };
     let items = ev.load_all(path);
     ev.run(&items);
+    ev.note_repeats();
     let notes: Vec<Vec<String>> = ev
         .diagnostics
         .iter()
@@ -284,21 +321,45 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
 }
 
 impl Evaluator {
-    /// Records a diagnostic; returns the failure marker for errors.
-    fn report(&mut self, mut d: Diagnostic) -> Fail {
+    /// Records a diagnostic, once for all the times repeated evaluation
+    /// finds it; returns the failure marker for errors. Once evaluation
+    /// has halted, nothing more is recorded.
+    fn report(&mut self, d: Diagnostic) -> Fail {
+        self.record(d, true)
+    }
+
+    /// [`Self::report`], with the values of the loops being run as a note
+    /// when `loop_note` is set (not for an error about a loop variable).
+    fn record(&mut self, mut d: Diagnostic, loop_note: bool) -> Fail {
+        if self.halted || self.seen_before(&d) {
+            return Fail;
+        }
         if let Some(span) = d.span {
             d.notes.extend(self.define_notes(span));
         }
-        if d.is_error() && !self.loops.is_empty() {
+        if loop_note && d.is_error() && !self.loops.is_empty() {
             let values: Vec<String> = self
                 .loops
                 .iter()
-                .map(|(name, v)| format!("{name} = {v}"))
+                .map(|(name, v, _)| format!("{name} = {v}"))
                 .collect();
             d.notes.push(format!("when {}", values.join(", ")));
         }
         self.diagnostics.push(d);
         Fail
+    }
+
+    /// Records a budget error and halts evaluation: what follows would be
+    /// a cascade of its consequences, or more of the same work.
+    fn halt(&mut self, d: Diagnostic) -> Fail {
+        self.report(d);
+        self.halted = true;
+        Fail
+    }
+
+    /// The loop variables and parameters visible here.
+    fn visible_locals(&self) -> impl DoubleEndedIterator<Item = &(String, Value)> {
+        self.locals[self.scope..].iter()
     }
 
     /// Turns a span-less helper result into a located one.
@@ -313,6 +374,9 @@ impl Evaluator {
         self.count_places(items);
         self.clock(items);
         for item in items {
+            if self.halted {
+                return;
+            }
             match item {
                 Item::Render { body, span } => {
                     if let Some(first) = self.render_seen.replace(*span) {
@@ -337,9 +401,13 @@ impl Evaluator {
                 Item::Let { .. } | Item::Param { .. } | Item::Fn(_) | Item::Include { .. } => {}
             }
         }
+        if self.halted {
+            return;
+        }
         self.finish_settings();
         self.check_motions();
         self.check_limits();
+        self.check_light_facing();
         self.check_unused();
         self.warn_unused_fns();
     }
@@ -365,7 +433,7 @@ impl Evaluator {
 }
 
 /// The span of a top-level statement that can make an object.
-fn statement_span(stmt: &Stmt) -> Span {
+pub(super) fn statement_span(stmt: &Stmt) -> Span {
     match stmt {
         Stmt::Object(o) => o.span,
         Stmt::Place { span, .. } | Stmt::If { span, .. } => *span,

@@ -4,6 +4,8 @@
 
 use super::math;
 use super::props::Allow;
+use super::repeats::Frame;
+use super::steps::Site;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Arg, BinOp, Expr, ExprKind, Stmt, TransformKind};
@@ -178,6 +180,7 @@ impl Evaluator {
 
     /// The symbolic value of `e`.
     fn sym(&mut self, e: &Expr) -> Eval<SymVal> {
+        self.step(1, e.span)?;
         if let ExprKind::Name(n) = &e.kind {
             if let Some((_, v)) = self.sym_locals.iter().rev().find(|(l, _)| l == n) {
                 return Ok(v.clone());
@@ -185,7 +188,7 @@ impl Evaluator {
         }
         match &e.kind {
             ExprKind::Number(v) => Ok(SymVal::Scalar(Sym::Const(*v))),
-            ExprKind::Name(n) if n == "t" && !self.locals.iter().any(|(l, _)| l == "t") => {
+            ExprKind::Name(n) if n == "t" && !self.visible_locals().any(|(l, _)| l == "t") => {
                 Ok(SymVal::Scalar(Sym::Time))
             }
             ExprKind::Tuple(items) if items.len() == 1 => self.sym(&items[0]),
@@ -278,9 +281,15 @@ impl Evaluator {
         let def = self.funcs[index].def.clone();
         let bound = self.bind(&def, args, span, |ev, e| ev.sym(e))?;
         self.check_call_depth(&def, span)?;
+        self.step(1, span)?;
+        self.funcs[index].calls += 1;
         let start = self.diagnostics.len();
-        let outer = std::mem::take(&mut self.locals);
+        let base = self.locals.len();
+        let outer = std::mem::replace(&mut self.scope, base);
+        let outer_fn = self.scope_fn.replace(index);
         let outer_sym = std::mem::take(&mut self.sym_locals);
+        self.calls.push(Frame { func: index, base });
+        self.enter(Site::Call { func: index, span });
         self.call_depth += 1;
         let mut result = Ok(SymVal::Scalar(Sym::Const(0.0)));
         for b in bound {
@@ -304,7 +313,11 @@ impl Evaluator {
             result = self.sym(&def.body);
         }
         self.call_depth -= 1;
-        self.locals = outer;
+        self.leave();
+        self.calls.pop();
+        self.locals.truncate(base);
+        self.scope = outer;
+        self.scope_fn = outer_fn;
         self.sym_locals = outer_sym;
         if result.is_err() {
             self.note_call_site(start, &def, span);
@@ -319,7 +332,10 @@ impl Evaluator {
         args: &[Arg],
         span: Span,
     ) -> Eval<SymVal> {
-        let body = self.check_call(callee, args, span)?.body;
+        let body = self
+            .check_call(callee, args, span)
+            .inspect_err(|_| self.mark_used(args))?
+            .body;
         let positional: Vec<&Expr> = args
             .iter()
             .filter(|a| a.name.is_none())

@@ -6,6 +6,7 @@ use crate::lang::codes::Code;
 use glam::{DVec2, DVec3};
 
 use super::props::{Allow, Block};
+use super::steps::Site;
 use super::value::Value;
 use super::{Eval, Evaluator, Fail};
 use crate::lang::ast::{Object, ObjectKind, RectPlane, Stmt};
@@ -33,6 +34,7 @@ fn holder(what: &'static str) -> Allow {
 impl Evaluator {
     /// A top-level statement: the node it adds to the world, if any.
     pub(super) fn top_stmt(&mut self, stmt: &Stmt) -> Eval<Option<Node>> {
+        self.step(1, super::statement_span(stmt))?;
         match stmt {
             Stmt::Object(o) => self.object(o).map(Some),
             Stmt::Place {
@@ -134,7 +136,10 @@ impl Evaluator {
                 ..allow
             },
         );
-        let nodes = self.children(&block.children)?;
+        self.enter(Site::Branch);
+        let nodes = self.children(&block.children);
+        self.leave();
+        let nodes = nodes?;
         Ok((!nodes.is_empty()).then(|| group_of(nodes)))
     }
 
@@ -522,14 +527,25 @@ impl Evaluator {
             ),
             "use a mesh for very many primitives",
         )?;
+        let count = (hi - lo).max(0.0);
+        self.check_nest(count, o.head)?;
         let allow = holder("repeat");
         let block = self.block(&o.body, &allow);
         let mut nodes = Vec::new();
         let mut i = lo;
         let mut failed = false;
+        self.enter(Site::Loop {
+            span: o.head,
+            count,
+            left: count,
+        });
         while i < hi {
+            if self.iteration(o.head).is_err() {
+                failed = true;
+                break;
+            }
             self.locals.push((var.name.clone(), Value::Num(i)));
-            self.loops.push((var.name.clone(), i));
+            self.loops.push((var.name.clone(), i, var.span));
             let children = self.children(&block.children);
             let transforms = self.apply_transforms(&block.transforms);
             self.loops.pop();
@@ -544,6 +560,7 @@ impl Evaluator {
             }
             i += 1.0;
         }
+        self.leave();
         if failed {
             return Err(Fail);
         }
@@ -595,7 +612,11 @@ impl Evaluator {
                 };
                 Node::Instance(id)
             }
-            _ => (*node).clone(),
+            _ => {
+                // Charging the tree walks it, as copying a shared one does.
+                self.step_copy(&node, name.span)?;
+                std::rc::Rc::unwrap_or_clone(node)
+            }
         };
         self.charge_tree(&placed, name.span)?;
         Ok(transforms?.wrap(flipped(placed, block.flip)))
