@@ -16,7 +16,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use rtlang::geometry::World;
-use rtlang::render::checkpoint::Header;
+use rtlang::render::checkpoint::{self, Header};
 use rtlang::render::job::{Checkpointing, Events, Outcome, RenderJob};
 use rtlang::render::lights::LightSelection;
 use rtlang::render::output::{self, write_image_at_quality, Format, JPEG_QUALITY};
