@@ -1,4 +1,4 @@
-//! Where renders write (issue 46 item 3): the temporary file is created
+//! Where renders write: the temporary file is created
 //! under a random name without following a symlink; a `--checkpoint` that
 //! names the scene, an included file or the output is refused before
 //! anything is rendered; an output in a folder that is missing (or is no
@@ -18,7 +18,7 @@ fn a_symlink_at_the_old_temporary_name_is_not_followed() {
     let dir = folder("dest-symlink");
     let victim = dir.join("victim.txt");
     std::fs::write(&victim, "keep me").expect("writes");
-    // The name the temporary file used to have: predictable from the PID.
+    // A name predictable from the PID, where an attacker would plant a link.
     let planted = dir.join(format!(".out.png.{}.tmp", std::process::id()));
     std::os::unix::fs::symlink(&victim, &planted).expect("symlink");
     let out = dir.join("out.png");

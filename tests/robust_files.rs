@@ -1,4 +1,4 @@
-//! Files a scene reads (issue 46 item 2): an `include`, image, mesh or
+//! Files a scene reads: an `include`, image, mesh or
 //! material library that is a device, a FIFO or a folder is refused with a
 //! diagnostic at once (never read without end, never waited on); scene
 //! files and OBJ files are charged to the memory budget before they are

@@ -1,4 +1,4 @@
-//! Pieces that do not belong together (issue 46 item 4): tiles rendered
+//! Pieces that do not belong together: tiles rendered
 //! with and without `--clamp` are not merged, nor is a checkpoint of
 //! another noise target resumed; a PNG renamed `.exr` is refused by its
 //! content; sidecars swapped between two tiles are caught by the hash of
