@@ -4,6 +4,7 @@
 //! (plain data) → [`geometry`] (intersection structures) → [`render`] (pixels).
 //! The language never calls the renderer; the renderer never sees spans.
 
+pub mod atomic;
 pub mod gen;
 pub mod geometry;
 pub mod lang;

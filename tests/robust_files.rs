@@ -6,7 +6,7 @@
 
 mod support;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -18,14 +18,14 @@ const GREY: &str = "lambertian(rgb(0.5, 0.5, 0.5))";
 
 /// `rtlang check SCENE`, killed (and the test failed) if it runs past 20 s.
 fn check_within_time(scene: &Path) -> Output {
-    within_time("check", scene)
+    within_time("check", &[scene])
 }
 
-/// `rtlang COMMAND SCENE`, killed (and the test failed) past 20 s.
-fn within_time(command: &str, scene: &Path) -> Output {
+/// `rtlang COMMAND FILES…`, killed (and the test failed) past 20 s.
+fn within_time(command: &str, files: &[&Path]) -> Output {
     let mut child = Command::new(RTLANG)
         .arg(command)
-        .arg(scene)
+        .args(files)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -34,7 +34,7 @@ fn within_time(command: &str, scene: &Path) -> Output {
     while child.try_wait().expect("waits").is_none() {
         if start.elapsed() > Duration::from_secs(20) {
             child.kill().expect("kills");
-            panic!("`rtlang {command} {}` hung", scene.display());
+            panic!("`rtlang {command} {files:?}` hung");
         }
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -217,4 +217,24 @@ fn included_files_add_up_against_the_budget() {
     let report = check_under(&three, 1 << 20);
     assert!(report.contains("rtlang::memory-budget"), "{report}");
     assert!(report.contains("this scene file"), "{report}");
+}
+
+#[test]
+fn compare_refuses_a_fifo_or_a_device_at_once() {
+    let dir = folder("files-compare");
+    let fine = dir.join("fine.ppm");
+    std::fs::write(&fine, "P3\n1 1\n255\n128 128 128\n").expect("writes");
+    mkfifo(&dir.join("pipe.png"));
+    for (other, wanted) in [
+        (
+            dir.join("pipe.png"),
+            "a FIFO (named pipe), not a regular file",
+        ),
+        (PathBuf::from("/dev/zero"), "a device, not a regular file"),
+    ] {
+        let out = within_time("compare", &[&fine, &other]);
+        let err = unwrapped(&out.stderr);
+        assert_ne!(out.status.code(), Some(0), "{err}");
+        assert!(err.contains(wanted), "{err}");
+    }
 }

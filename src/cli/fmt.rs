@@ -99,12 +99,7 @@ fn one(path: &Path, check: bool) -> bool {
         outln!("{}", path.display());
         return false;
     }
-    let mut temp = path.as_os_str().to_owned();
-    temp.push(".fmt-tmp");
-    let temp = PathBuf::from(temp);
-    let written = std::fs::write(&temp, &formatted).and_then(|()| std::fs::rename(&temp, path));
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temp);
+    if let Err(e) = rtlang::atomic::write_bytes(path, formatted.as_bytes()) {
         errln!("error: cannot write `{}`: {e}", path.display());
         return false;
     }

@@ -1,6 +1,5 @@
 //! Writing generated assets to disk: a PNG from a [`Canvas`], an OBJ from a
-//! [`MeshData`]. Files are written beside the target and renamed into place,
-//! so a failure never leaves a half-written asset.
+//! [`MeshData`], whole or not at all (`crate::atomic`).
 
 use std::path::{Path, PathBuf};
 
@@ -71,16 +70,8 @@ pub fn write_obj(mesh: &MeshData, header: &[&str], path: &Path) -> Result<(), Ge
 }
 
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), GenError> {
-    let fail = |e: std::io::Error| GenError::Write {
+    crate::atomic::write_bytes(path, bytes).map_err(|e| GenError::Write {
         path: path.to_path_buf(),
         message: e.to_string(),
-    };
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes).map_err(fail)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        fail(e)
     })
 }

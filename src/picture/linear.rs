@@ -22,7 +22,7 @@ pub enum PictureError {
     #[diagnostic(code(picture::io), help("check that the file exists and is readable"))]
     Read {
         path: PathBuf,
-        source: std::io::Error,
+        source: crate::scene::file::ReadError,
     },
     #[error("cannot decode `{}`: {message}", path.display())]
     #[diagnostic(
@@ -84,10 +84,13 @@ impl LinearImage {
             path: path.to_path_buf(),
             message,
         };
-        let bytes = std::fs::read(path).map_err(|source| PictureError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        // A regular file only (a FIFO or device would block or never end),
+        // and bounded: no image compared here comes near a gigabyte.
+        let bytes =
+            crate::scene::file::read(path, 1 << 30).map_err(|source| PictureError::Read {
+                path: path.to_path_buf(),
+                source,
+            })?;
         let format = image::guess_format(&bytes)
             .or_else(|_| ImageFormat::from_path(path))
             .map_err(|e| decode(e.to_string()))?;

@@ -10,6 +10,8 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
+use crate::atomic::{self, folder_of, temp_beside};
+
 /// An image file format rtlang writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -91,50 +93,12 @@ pub fn write_image_at_quality(
     })
 }
 
-/// Writes a file through `fill` into a temporary file beside `path`, synced
-/// and renamed over `path` only when complete: on any failure `path` keeps
-/// its old content and the temporary file is removed. The temporary file
-/// has a random name and is created exclusively (`O_EXCL`), so nothing
-/// planted at a name known in advance (a symlink to another file) is
-/// followed or overwritten.
+/// Writes a file through `fill`, whole or not at all (`crate::atomic`).
 pub fn write_atomically(
     path: &Path,
     fill: impl FnOnce(&mut BufWriter<&File>) -> Result<(), Box<dyn std::error::Error>>,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let temp = temp_beside(path)?;
-    let mut w = BufWriter::new(temp.as_file());
-    fill(&mut w)?;
-    w.flush()?;
-    drop(w);
-    temp.as_file().sync_all()?;
-    temp.persist(path)?;
-    Ok(())
-}
-
-/// A new empty file of a random name in `path`'s folder, removed when
-/// dropped unless persisted. On unix it is created readable as a plain
-/// `File::create` would make it (0666 less the umask), not private.
-fn temp_beside(path: &Path) -> std::io::Result<tempfile::NamedTempFile> {
-    let name = path
-        .file_name()
-        .map_or_else(|| "image".into(), |n| n.to_string_lossy().into_owned());
-    let prefix = format!(".{name}.");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    builder.tempfile_in(folder_of(path))
-}
-
-/// The folder a file `path` is written in (`.` for a bare name).
-fn folder_of(path: &Path) -> &Path {
-    match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    }
+    atomic::write_with(path, fill)
 }
 
 /// Checks, before anything is rendered, that a file can be written at
