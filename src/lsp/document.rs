@@ -152,8 +152,9 @@ impl Document {
     ) -> Outcome {
         self.refresh_index();
         self.stale_check = false;
-        // The hook for evaluation limits: a step budget and a cancel flag
-        // (set when a newer text arrives) belong in these options.
+        // The default step budget bounds a runaway scene (a few seconds at
+        // most); the check is not cancelled when newer text arrives, since
+        // checks run only when no message is waiting.
         let options = Options {
             overlay: Some((self.path.clone(), self.text.clone())),
             overlays: buffers,
