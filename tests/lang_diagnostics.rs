@@ -6,6 +6,10 @@ use std::path::Path;
 
 use rtlang::lang::{self, diagnostics::render_plain, Options};
 
+#[allow(dead_code)]
+#[path = "support/scratch.rs"]
+mod scratch;
+
 /// All diagnostics of one file rendered as a user sees them (no colour,
 /// fixed width).
 fn rendered(path: &Path) -> (String, bool) {
@@ -97,4 +101,50 @@ fn json_diagnostics_carry_positions() {
         .as_str()
         .unwrap()
         .contains("did you mean `glass`"));
+}
+
+/// A call that failed still uses the names it mentions: neither the
+/// misspelt call's argument nor the function called with too many
+/// arguments is reported as unused.
+#[test]
+fn a_failed_call_leaves_nothing_unused() {
+    let outcome = lang::check(
+        Path::new("tests/diagnostics/failed_call_uses_its_names.rt"),
+        &Options::default(),
+    );
+    let codes: Vec<&str> = outcome
+        .diagnostics
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect();
+    assert_eq!(codes, ["rtlang::unknown-function", "rtlang::arity"]);
+}
+
+/// The same lamp as `light_facing_away_warning.rt`, flipped to face the
+/// sphere below it, or made two-sided: no warning.
+#[test]
+fn a_light_facing_the_scene_is_not_warned_about() {
+    let base = std::fs::read_to_string("tests/diagnostics/light_facing_away_warning.rt")
+        .expect("the warning's scene");
+    let away = "material lamp }";
+    assert!(base.contains(away));
+    for (name, text) in [
+        ("flipped", base.replace(away, "material lamp flip }")),
+        (
+            "two-sided",
+            base.replace(
+                "light(rgb(4, 4, 4))",
+                "light(rgb(4, 4, 4), two_sided: true)",
+            ),
+        ),
+    ] {
+        let path = scratch::file("lamp.rt", text.as_bytes());
+        let outcome = lang::check(&path, &Options::default());
+        let codes: Vec<&str> = outcome
+            .diagnostics
+            .iter()
+            .map(|d| d.code.as_str())
+            .collect();
+        assert!(codes.is_empty(), "{name}: {codes:?}\n{text}");
+    }
 }

@@ -104,3 +104,57 @@ fn check_corpus(dir: &str, min: usize, snapshot: bool) {
         wrong.join("\n")
     );
 }
+
+/// The errors of `tests/wrong_fresh/NAME.rt`, as (code, notes).
+fn errors_of(name: &str) -> Vec<(String, Vec<String>)> {
+    let path = format!("tests/wrong_fresh/{name}.rt");
+    let outcome = lang::check(Path::new(&path), &Options::default());
+    outcome
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| (d.code.as_str().to_string(), d.notes.clone()))
+        .collect()
+}
+
+/// Work without end is refused with one error, and an error found in
+/// every call of a recursion is reported once, with its count and the
+/// calls that first led to it.
+#[test]
+fn budget_and_repeated_errors_are_reported_once() {
+    let doubling = errors_of("recursion_twice_per_level");
+    assert_eq!(doubling.len(), 1, "{doubling:?}");
+    assert_eq!(doubling[0].0, "rtlang::step-budget");
+
+    let nested = errors_of("repeat_nested_huge");
+    assert_eq!(nested.len(), 1, "{nested:?}");
+    assert_eq!(nested[0].0, "rtlang::step-budget");
+    assert!(
+        nested[0].1.iter().all(|n| !n.starts_with("when")),
+        "refused before any iteration ran: no loop values {nested:?}"
+    );
+
+    // The recursion makes spheres too small before it is too deep: that
+    // error is reported once, after the one that stopped evaluation.
+    let bush = errors_of("recursion_no_base_case");
+    assert_eq!(bush[0].0, "rtlang::too-deep", "{bush:?}");
+    assert!(bush.len() <= 2, "{bush:?}");
+    if let Some((_, notes)) = bush.get(1) {
+        assert!(
+            notes.iter().any(|n| n.contains("times; first in")),
+            "{bush:?}"
+        );
+    }
+
+    let tree = errors_of("tree_one_bad_leaf");
+    assert_eq!(tree.len(), 1, "{tree:?}");
+    let note = tree[0].1.iter().find(|n| n.contains("happened"));
+    assert_eq!(
+        note.map(String::as_str),
+        Some(
+            "this error happened 4096 times; first in leaf(0) ← tree(0, 0) ← tree(1, 0) ← … ← \
+             tree(10, 0) ← tree(11, 0) ← tree(12, 0)"
+        ),
+        "{tree:?}"
+    );
+}

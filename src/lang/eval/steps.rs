@@ -124,17 +124,20 @@ impl Evaluator {
     /// with the iterations left of the loops it is nested in, it would
     /// take more steps than the budget has left.
     pub(super) fn check_nest(&mut self, count: f64, span: Span) -> Eval<()> {
-        let outer: f64 = self
+        // Each loop around: its span, its count and the iterations it has
+        // still to run, the current one included.
+        let around: Vec<(Span, f64, f64)> = self
             .steps
             .sites
             .iter()
             .rev()
             .take_while(|s| !matches!(s, Site::Branch))
-            .filter_map(|s| match s {
-                Site::Loop { left, .. } => Some(*left + 1.0),
+            .filter_map(|s| match *s {
+                Site::Loop { span, count, left } => Some((span, count, left + 1.0)),
                 _ => None,
             })
-            .product();
+            .collect();
+        let outer: f64 = around.iter().map(|&(_, _, left)| left).product();
         let total = count * outer;
         let left = self.steps.limit.saturating_sub(self.steps.used) as f64;
         if total <= left {
@@ -149,19 +152,36 @@ impl Evaluator {
         } else {
             format!("{} iterations", amount(count))
         };
-        Err(self.halt(
-            Diagnostic::error(
-                Code::StepBudget,
-                span,
-                format!(
-                    "this loop would run {} times, more than the step budget of {} allows",
-                    amount(total),
-                    self.steps.limit
-                ),
-            )
-            .label(label)
-            .help(HELP),
-        ))
+        let mut d = Diagnostic::error(
+            Code::StepBudget,
+            span,
+            format!(
+                "this loop would run {} times, more than the step budget of {} allows",
+                amount(total),
+                self.steps.limit
+            ),
+        )
+        .label(label)
+        .help(HELP);
+        for (outer_span, count, left) in around {
+            d = d.related(
+                outer_span,
+                if left < count {
+                    format!(
+                        "a loop around it, with {} of its {} iterations to run",
+                        amount(left),
+                        amount(count)
+                    )
+                } else {
+                    format!("a loop around it, of {} iterations", amount(count))
+                },
+            );
+        }
+        // Not `halt`: its note of the loop values ("when i = 0") would only
+        // say that the refusal came before the first iteration ran.
+        self.record(d, false);
+        self.halted = true;
+        Err(Fail)
     }
 
     /// Halts evaluation with the error at the innermost call or loop (or
