@@ -4,6 +4,10 @@
 
 #[path = "../../tests/support/pipeline.rs"]
 mod pipeline;
+// The pipeline writes its scenes in a scratch folder of the tests' own.
+#[allow(dead_code)]
+#[path = "../../tests/support/scratch.rs"]
+mod scratch;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     pipeline::run_scene(data);
