@@ -164,3 +164,68 @@ fn the_default_budget_ends_a_doubling_recursion_with_one_error() {
     assert_eq!(errors[0]["code"], "rtlang::step-budget");
     assert_eq!(errors[0]["line"], 2, "at the recursive call");
 }
+
+/// A flat grid of `n` × `n` squares, two triangles each, as OBJ text.
+fn grid_obj(n: usize) -> String {
+    let mut text = String::with_capacity(60 * n * n);
+    for j in 0..=n {
+        for i in 0..=n {
+            text += &format!("v {} {} 0\n", i as f32 / n as f32, j as f32 / n as f32);
+        }
+    }
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    text
+}
+
+/// Reading a million-triangle mesh and building its tree poll no flag; a
+/// signal then ends `render` at once, with nothing written (a render that
+/// went on to its first round would write the image it had).
+#[cfg(unix)]
+#[test]
+fn a_render_stopped_while_its_mesh_loads_ends_at_once_and_writes_nothing() {
+    let dir = scratch::folder("stop-loading");
+    scratch::write(&dir, "grid.obj", &grid_obj(700));
+    let scene = scratch::write(
+        &dir,
+        "mesh.rt",
+        "camera { from (0.5, 0.5, 2) at (0.5, 0.5, 0) }\n\
+         mesh \"grid.obj\" { material lambertian(rgb(0.5, 0.5, 0.5)) }\n",
+    );
+    let out = dir.join("out.png");
+    let mut child = Running::start(&[
+        "render",
+        s(&scene),
+        "-o",
+        s(&out),
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--spp",
+        "1",
+    ]);
+    std::thread::sleep(Duration::from_millis(150));
+    if let Some(status) = child.0.try_wait().expect("waits") {
+        panic!(
+            "`render` ended before the signal: {status}\n{}",
+            child.stderr()
+        );
+    }
+    let pid = child.0.id() as libc::pid_t;
+    // SAFETY: kill(2) with the id of a child this test started and has
+    // not waited for yet, so the id is still its.
+    assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0, "kill");
+    let Some(status) = child.wait_for(Duration::from_secs(30)) else {
+        panic!("`render` still running 30 s after SIGTERM");
+    };
+    let err = child.stderr();
+    assert_eq!(status.code(), Some(130), "{status}\n{err}");
+    assert!(!out.exists(), "the render went on past loading: {err}");
+    assert!(!err.contains("wrote"), "{err}");
+}

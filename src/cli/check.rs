@@ -46,6 +46,9 @@ pub fn run(args: CheckArgs) -> ExitCode {
     let stop = interrupt::stop_flag()
         .map_err(|e| errln!("warning: cannot catch interrupts ({e})"))
         .ok();
+    // A check has nothing to save: a signal ends it at once, in a stage
+    // that polls no flag too (an image or mesh being read).
+    interrupt::exit_at_once_when_idle();
     let options = Options {
         defines: args.define,
         frame: args.frame,

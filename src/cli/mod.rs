@@ -21,7 +21,7 @@ mod split;
 use std::process::ExitCode;
 
 /// The exit status of a command stopped by a signal (128 + SIGINT).
-const INTERRUPTED: u8 = 130;
+const INTERRUPTED: u8 = rtlang::render::interrupt::STATUS;
 
 use clap::{Parser, Subcommand};
 

@@ -280,6 +280,7 @@ fn run_all(args: &RenderArgs) -> Result<(), Failure> {
         errln!("warning: cannot catch interrupts ({e}); an interrupted render is lost");
         &fallback
     });
+    interrupt::exit_at_once_when_idle();
     for frame in first..=last {
         render_frame(args, frame, stop)?;
     }
@@ -342,6 +343,9 @@ fn render_frame(args: &RenderArgs, frame: i64, stop: &AtomicBool) -> Result<(), 
         round_done: &mut |_| {},
         save_failed: &save_failed,
     };
+    // From the first sample until the image and checkpoint are written a
+    // signal only asks the render to stop; before, it ends the process.
+    let _hold = interrupt::hold();
     let Outcome { stats, interrupted } = job.run(&mut film, &mut events).map_err(fail)?;
     shown.bar.finish_and_clear();
     let reached = film.spp_reached();
