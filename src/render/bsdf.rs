@@ -1,6 +1,6 @@
 //! The scattering at one hit: a closed `Bsdf` (lambertian, fuzzy metal,
-//! mirror, dielectric, the isotropic phase function of media, and emitters
-//! that only emit), built once per hit with its texture already looked up
+//! mirror, dielectric, the microfacet lobes of [`super::rough`], the
+//! isotropic phase function of media, and emitters that only emit), built once per hit with its texture already looked up
 //! ([`super::material::bsdf`]). The integrator samples it, evaluates it for
 //! light samples and asks its density, without knowing which one it is.
 //!
@@ -12,6 +12,8 @@ use std::f32::consts::{FRAC_1_PI, PI};
 use glam::{Vec2, Vec3};
 
 use super::fuzz;
+use super::microfacet::Frame;
+use super::rough;
 use crate::sampling::warp::{cosine_hemisphere, uniform_sphere};
 use crate::sampling::Sampler;
 
@@ -43,6 +45,33 @@ pub enum Bsdf {
     /// Refraction or reflection by exact Fresnel (specular); `eta` is the
     /// ratio of the index of refraction the ray leaves to the one it enters.
     Dielectric { eta: f32, normal: Vec3 },
+    /// A rough conductor about the shading `normal`, its roughness along
+    /// the tangent of [`Frame::around_y`]; nothing leaves below the
+    /// geometric surface.
+    Conductor {
+        lobe: rough::Conductor,
+        normal: Vec3,
+        geo_normal: Vec3,
+    },
+    /// Rough glass: `normal` faces the viewer and `lobe.eta` is the index
+    /// behind it over the index in front.
+    RoughDielectric {
+        lobe: rough::Dielectric,
+        normal: Vec3,
+        geo_normal: Vec3,
+    },
+    /// A coated diffuse surface.
+    Plastic {
+        lobe: rough::Plastic,
+        normal: Vec3,
+        geo_normal: Vec3,
+    },
+    /// glTF's metallic–roughness BRDF.
+    MetalRough {
+        lobe: rough::MetalRough,
+        normal: Vec3,
+        geo_normal: Vec3,
+    },
     /// The isotropic phase function of a medium.
     Isotropic { albedo: Vec3 },
     /// A light: emits `emitted` towards the path and scatters nothing.
@@ -93,8 +122,14 @@ impl Bsdf {
             Bsdf::Lambertian { normal, .. }
             | Bsdf::FuzzyMetal { normal, .. }
             | Bsdf::Mirror { normal, .. }
-            | Bsdf::Dielectric { normal, .. } => normal,
-            Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => Vec3::ZERO,
+            | Bsdf::Dielectric { normal, .. }
+            | Bsdf::Conductor { normal, .. }
+            | Bsdf::Plastic { normal, .. }
+            | Bsdf::MetalRough { normal, .. } => normal,
+            // Rough glass gathers light from both sides.
+            Bsdf::RoughDielectric { .. } | Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => {
+                Vec3::ZERO
+            }
         }
     }
 
@@ -151,6 +186,26 @@ impl Bsdf {
             Bsdf::Dielectric { eta, normal } => {
                 specular(dielectric(-wo, normal, eta, u1), Vec3::ONE)
             }
+            Bsdf::Conductor {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2)),
+            Bsdf::RoughDielectric {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2, u1)),
+            Bsdf::Plastic {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2, u1)),
+            Bsdf::MetalRough {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2, u1)),
             Bsdf::Isotropic { albedo } => scattered(uniform_sphere(u2), albedo, 1.0 / (4.0 * PI)),
             Bsdf::Emitter { .. } => None,
         }
@@ -161,8 +216,13 @@ impl Bsdf {
     #[inline]
     pub fn sample_from(&self, wo: Vec3, sampler: &mut Sampler) -> Option<BsdfSample> {
         let (two, one) = match self {
-            Bsdf::Lambertian { .. } | Bsdf::Isotropic { .. } => (true, false),
-            Bsdf::FuzzyMetal { .. } => (true, true),
+            Bsdf::Lambertian { .. } | Bsdf::Isotropic { .. } | Bsdf::Conductor { .. } => {
+                (true, false)
+            }
+            Bsdf::FuzzyMetal { .. }
+            | Bsdf::RoughDielectric { .. }
+            | Bsdf::Plastic { .. }
+            | Bsdf::MetalRough { .. } => (true, true),
             Bsdf::Dielectric { .. } => (false, true),
             Bsdf::Mirror { .. } | Bsdf::Emitter { .. } => (false, false),
         };
@@ -199,6 +259,26 @@ impl Bsdf {
                 let pdf = fuzz::pdf(reflect(-wo, normal), fuzz, wi);
                 (pdf > 0.0).then_some((albedo * pdf, pdf))
             }
+            Bsdf::Conductor {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
+            Bsdf::RoughDielectric {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
+            Bsdf::Plastic {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
+            Bsdf::MetalRough {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
             Bsdf::Isotropic { albedo } => Some((albedo / (4.0 * PI), 1.0 / (4.0 * PI))),
             Bsdf::Mirror { .. } | Bsdf::Dielectric { .. } | Bsdf::Emitter { .. } => None,
         }
@@ -214,6 +294,51 @@ impl Bsdf {
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         self.eval_pdf(wo, wi).map_or(0.0, |(_, p)| p)
     }
+}
+
+/// Whether `wo` and `wi` lie on the sides of the geometric surface
+/// (normal `geo`, facing `wo`'s side) their local cosines put them on, so
+/// that a lobe never leaks light through the surface: reflection stays
+/// above it, transmission below.
+#[inline]
+fn consistent(geo: Vec3, wo: Vec3, wi: Vec3, local_wi: Vec3) -> bool {
+    wo.dot(geo) > 0.0 && (wi.dot(geo) > 0.0) == (local_wi.z > 0.0)
+}
+
+/// A microfacet lobe's sample, drawn in the local frame of `normal`.
+#[inline]
+fn local_sample(
+    normal: Vec3,
+    geo: Vec3,
+    wo: Vec3,
+    sample: impl FnOnce(Vec3) -> Option<rough::Sampled>,
+) -> Option<BsdfSample> {
+    let frame = Frame::around_y(normal);
+    let (local, weight, pdf) = sample(frame.to_local(wo))?;
+    let wi = frame.to_world(local);
+    consistent(geo, wo, wi, local).then_some(BsdfSample {
+        wi,
+        weight,
+        pdf,
+        specular: false,
+    })
+}
+
+/// A microfacet lobe's f·cos and density, in the local frame of `normal`.
+#[inline]
+fn local_eval(
+    normal: Vec3,
+    geo: Vec3,
+    wo: Vec3,
+    wi: Vec3,
+    eval: impl FnOnce(Vec3, Vec3) -> Option<(Vec3, f32)>,
+) -> Option<(Vec3, f32)> {
+    let frame = Frame::around_y(normal);
+    let local = frame.to_local(wi);
+    if !consistent(geo, wo, wi, local) {
+        return None;
+    }
+    eval(frame.to_local(wo), local)
 }
 
 /// `d` mirrored about the plane of unit normal `n`.

@@ -1,13 +1,17 @@
 //! A scene material at a hit becomes its [`Bsdf`]: the one place a hit's
 //! texture is looked up, and where a metal with (almost) no fuzz becomes a
-//! specular mirror and a dielectric's index ratio is chosen by the side hit.
+//! specular mirror, a dielectric's index ratio is chosen by the side hit and
+//! the microfacet materials get their lobes ([`super::rough`]).
 
 use glam::Vec3;
 
 use super::bsdf::Bsdf;
 use super::fuzz::SPECULAR_FUZZ;
+use super::microfacet::conductor_of_reflectance;
+use super::rough;
 use super::texture::lookup;
 use crate::geometry::Hit;
+use crate::scene::material::ConductorFresnel;
 use crate::scene::{Material, Scene};
 
 /// The scattering of `hit`'s material at `hit`, a hit of a world whose
@@ -48,5 +52,61 @@ pub fn bsdf(scene: &Scene, hit: &Hit, frame: Vec3) -> Bsdf {
         Material::Isotropic { albedo: tex } => Bsdf::Isotropic {
             albedo: albedo(tex),
         },
+        Material::Conductor { fresnel, alpha } => {
+            let (eta, k) = match fresnel {
+                ConductorFresnel::Ior { eta, k } => (eta, k),
+                ConductorFresnel::Reflectance(tex) => conductor_of_reflectance(albedo(tex)),
+            };
+            Bsdf::Conductor {
+                lobe: rough::Conductor { eta, k, alpha },
+                normal,
+                geo_normal,
+            }
+        }
+        Material::RoughDielectric { ior, alpha } => Bsdf::RoughDielectric {
+            lobe: rough::Dielectric {
+                eta: if hit.front_face { ior } else { 1.0 / ior },
+                alpha,
+            },
+            normal,
+            geo_normal,
+        },
+        Material::Plastic {
+            albedo: tex,
+            ior,
+            alpha,
+        } => Bsdf::Plastic {
+            lobe: rough::Plastic {
+                albedo: albedo(tex),
+                eta: ior,
+                alpha,
+            },
+            normal,
+            geo_normal,
+        },
+        Material::MetalRough {
+            base,
+            metallic,
+            roughness,
+            metallic_roughness,
+        } => {
+            // glTF: roughness in green, metallic in blue.
+            let (r, m) = match metallic_roughness {
+                Some(tex) => {
+                    let t = albedo(tex);
+                    (roughness * t.y, metallic * t.z)
+                }
+                None => (roughness, metallic),
+            };
+            Bsdf::MetalRough {
+                lobe: rough::MetalRough {
+                    base: albedo(base),
+                    metallic: m.clamp(0.0, 1.0),
+                    alpha: r * r,
+                },
+                normal,
+                geo_normal,
+            }
+        }
     }
 }

@@ -1,0 +1,143 @@
+//! The tables of a rough dielectric coat that the plastic material reads,
+//! built as Mitsuba 3's `roughplastic` builds them: the coat's directional
+//! transmittance 1 − R(μ) at 64 cosines μ = i/63 (read by linear
+//! interpolation), where R is the directional albedo of its GGX reflection,
+//! and its internal reflectance 2·mean(R′(μ)·μ) over the same cosines,
+//! where R′ is the albedo seen from inside (index 1/η). Building one costs
+//! about a millisecond, so each thread keeps the last few it built.
+
+use std::cell::RefCell;
+
+use glam::{Vec2, Vec3};
+
+use super::microfacet::{fresnel_dielectric, reflect, Ggx};
+
+/// Cosines the transmittance is tabulated at.
+const RESOLUTION: usize = 64;
+
+/// Quadrature points per axis over the visible-normal square.
+const QUADRATURE: usize = 24;
+
+/// Tables a thread keeps.
+const KEPT: usize = 8;
+
+/// One coat's tables.
+struct Table {
+    key: (u32, u32),
+    transmittance: [f32; RESOLUTION],
+    internal: f32,
+}
+
+thread_local! {
+    static TABLES: RefCell<Vec<Table>> = const { RefCell::new(Vec::new()) };
+}
+
+/// The albedo of GGX reflection of roughness `alpha` off an interface of
+/// relative index `eta`, seen at cosine `mu`: the mean of F·G1 over the
+/// visible normals, by the midpoint rule on the square they are sampled
+/// from.
+fn reflectance(eta: f32, alpha: f32, mu: f32) -> f32 {
+    let ggx = Ggx::new(Vec2::splat(alpha));
+    let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+    let mut sum = 0.0f64;
+    for i in 0..QUADRATURE {
+        for j in 0..QUADRATURE {
+            let u = Vec2::new(
+                (i as f32 + 0.5) / QUADRATURE as f32,
+                (j as f32 + 0.5) / QUADRATURE as f32,
+            );
+            let m = ggx.sample_visible(wo, u);
+            let c = wo.dot(m);
+            if c > 0.0 {
+                let wi = reflect(wo, m);
+                sum += (fresnel_dielectric(c, eta).0 * ggx.g1(wi, m)) as f64;
+            }
+        }
+    }
+    (sum / (QUADRATURE * QUADRATURE) as f64) as f32
+}
+
+impl Table {
+    fn build(eta: f32, alpha: f32) -> Table {
+        let mut transmittance = [0.0; RESOLUTION];
+        let mut internal = 0.0f64;
+        for (i, t) in transmittance.iter_mut().enumerate() {
+            let mu = (i as f32 / (RESOLUTION - 1) as f32).max(1e-6);
+            *t = 1.0 - reflectance(eta, alpha, mu);
+            internal += (reflectance(1.0 / eta, alpha, mu) * mu) as f64;
+        }
+        Table {
+            key: (eta.to_bits(), alpha.to_bits()),
+            transmittance,
+            internal: (2.0 * internal / RESOLUTION as f64) as f32,
+        }
+    }
+
+    /// The transmittance at cosine `mu`, interpolated linearly.
+    fn at(&self, mu: f32) -> f32 {
+        let x = mu.clamp(0.0, 1.0) * (RESOLUTION - 1) as f32;
+        let i = (x as usize).min(RESOLUTION - 2);
+        let w = x - i as f32;
+        (1.0 - w) * self.transmittance[i] + w * self.transmittance[i + 1]
+    }
+}
+
+/// Runs `f` on the table of the coat (`eta`, `alpha`), building it if this
+/// thread has not kept it.
+fn with_table<R>(eta: f32, alpha: f32, f: impl FnOnce(&Table) -> R) -> R {
+    TABLES.with_borrow_mut(|tables| {
+        let key = (eta.to_bits(), alpha.to_bits());
+        let i = match tables.iter().position(|t| t.key == key) {
+            Some(i) => i,
+            None => {
+                if tables.len() == KEPT {
+                    tables.remove(0);
+                }
+                tables.push(Table::build(eta, alpha));
+                tables.len() - 1
+            }
+        };
+        f(&tables[i])
+    })
+}
+
+/// The coat's transmittance towards a direction of cosine `mu`.
+pub fn transmittance(eta: f32, alpha: f32, mu: f32) -> f32 {
+    with_table(eta, alpha, |t| t.at(mu))
+}
+
+/// The coat's transmittances towards cosines `a` and `b`, and its internal
+/// reflectance.
+pub fn transmittances(eta: f32, alpha: f32, a: f32, b: f32) -> (f32, f32, f32) {
+    with_table(eta, alpha, |t| (t.at(a), t.at(b), t.internal))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_smooth_coat_transmits_what_fresnel_does_not_reflect() {
+        // At α → 0 the albedo is the Fresnel reflectance of the direction.
+        for mu in [1.0f32, 0.6, 0.2] {
+            let r = reflectance(1.5, 1e-4, mu);
+            let f = fresnel_dielectric(mu, 1.5).0;
+            assert!((r - f).abs() < 1e-3, "{mu}: {r} vs {f}");
+        }
+        // Index 1 reflects nothing; a rough coat loses no more than its
+        // Fresnel reflectance at grazing.
+        assert!(reflectance(1.0, 0.3, 0.5).abs() < 1e-6);
+        let t = Table::build(1.5, 0.3);
+        assert!(t.transmittance.iter().all(|&t| (0.0..=1.0).contains(&t)));
+        assert!((t.at(1.0) - 0.96).abs() < 0.01, "{}", t.at(1.0));
+        // Seen from inside, everything beyond the critical angle reflects:
+        // the internal reflectance of a smooth coat of index 1.5 is about
+        // 0.6 (1 − (1 − 0.092)/η², the hemispherical Fresnel from inside).
+        let smooth = Table::build(1.5, 1e-4);
+        assert!(
+            (smooth.internal - 0.596).abs() < 0.02,
+            "{}",
+            smooth.internal
+        );
+    }
+}
