@@ -54,3 +54,35 @@ pub enum ConductorFresnel {
     /// The reflectance at normal incidence (each channel in [0, 1]).
     Reflectance(TextureId),
 }
+
+/// The named conductors `conductor("Au")` accepts: name, η and k per RGB
+/// channel. The values are Mitsuba 3's spectral data (`data/ior/*.spd`,
+/// from Palik's handbook of optical constants) reduced to linear sRGB by
+/// Mitsuba 3.9.1's `scalar_rgb` variant, so that twin scenes agree.
+pub const CONDUCTORS: &[(&str, Vec3, Vec3)] = &[
+    (
+        "Ag",
+        Vec3::new(0.155276, 0.116728, 0.138388),
+        Vec3::new(4.82835, 3.12222, 2.1469),
+    ),
+    (
+        "Al",
+        Vec3::new(1.6575, 0.880405, 0.521244),
+        Vec3::new(9.22381, 6.2695, 4.837),
+    ),
+    (
+        "Au",
+        Vec3::new(0.143036, 0.375307, 1.44205),
+        Vec3::new(3.983, 2.38556, 1.60336),
+    ),
+    (
+        "Cr",
+        Vec3::new(4.36967, 2.91651, 1.6549),
+        Vec3::new(5.20655, 4.23131, 3.7547),
+    ),
+    (
+        "Cu",
+        Vec3::new(0.201005, 0.92375, 1.10222),
+        Vec3::new(3.91326, 2.45305, 2.14209),
+    ),
+];
