@@ -1,22 +1,23 @@
 //! The tables of a rough dielectric coat that the plastic material reads,
 //! built as Mitsuba 3's `roughplastic` builds them: the coat's directional
-//! transmittance 1 − R(μ) at 64 cosines μ = i/63 (read by linear
-//! interpolation), where R is the directional albedo of its GGX reflection,
-//! and its internal reflectance 2·mean(R′(μ)·μ) over the same cosines,
-//! where R′ is the albedo seen from inside (index 1/η). Building one costs
+//! transmittance T(μ) at 64 cosines μ = i/63 (read by linear
+//! interpolation), the albedo of its GGX refraction, and its internal
+//! reflectance 2·mean(R′(μ)·μ) over the same cosines, where R′ is the
+//! albedo of its GGX reflection seen from inside (index 1/η). Both albedos
+//! count single scattering only, with separable masking. Building one costs
 //! about a millisecond, so each thread keeps the last few it built.
 
 use std::cell::RefCell;
 
 use glam::{Vec2, Vec3};
 
-use super::microfacet::{fresnel_dielectric, reflect, Ggx};
+use super::microfacet::{fresnel_dielectric, reflect, refract, Ggx};
 
 /// Cosines the transmittance is tabulated at.
 const RESOLUTION: usize = 64;
 
 /// Quadrature points per axis over the visible-normal square.
-const QUADRATURE: usize = 24;
+const QUADRATURE: usize = 32;
 
 /// Tables a thread keeps.
 const KEPT: usize = 8;
@@ -32,14 +33,14 @@ thread_local! {
     static TABLES: RefCell<Vec<Table>> = const { RefCell::new(Vec::new()) };
 }
 
-/// The albedo of GGX reflection of roughness `alpha` off an interface of
-/// relative index `eta`, seen at cosine `mu`: the mean of F·G1 over the
-/// visible normals, by the midpoint rule on the square they are sampled
-/// from.
-fn reflectance(eta: f32, alpha: f32, mu: f32) -> f32 {
+/// The albedos of GGX reflection and refraction of roughness `alpha` at
+/// an interface of relative index `eta`, seen at cosine `mu`: the means of
+/// F·G1 and (1 − F)·G1 over the visible normals, by the midpoint rule on
+/// the square they are sampled from.
+fn albedos(eta: f32, alpha: f32, mu: f32) -> (f32, f32) {
     let ggx = Ggx::new(Vec2::splat(alpha));
     let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-    let mut sum = 0.0f64;
+    let (mut reflected, mut refracted) = (0.0f64, 0.0f64);
     for i in 0..QUADRATURE {
         for j in 0..QUADRATURE {
             let u = Vec2::new(
@@ -48,13 +49,22 @@ fn reflectance(eta: f32, alpha: f32, mu: f32) -> f32 {
             );
             let m = ggx.sample_visible(wo, u);
             let c = wo.dot(m);
-            if c > 0.0 {
-                let wi = reflect(wo, m);
-                sum += (fresnel_dielectric(c, eta).0 * ggx.g1(wi, m)) as f64;
+            if c <= 0.0 {
+                continue;
+            }
+            let (f, cos_t) = fresnel_dielectric(c, eta);
+            let wi = reflect(wo, m);
+            if wi.z > 0.0 {
+                reflected += (f * ggx.g1(wi, m)) as f64;
+            }
+            let wt = refract(wo, m, eta, cos_t);
+            if wt.z < 0.0 && f < 1.0 {
+                refracted += ((1.0 - f) * ggx.g1(wt, m)) as f64;
             }
         }
     }
-    (sum / (QUADRATURE * QUADRATURE) as f64) as f32
+    let n = (QUADRATURE * QUADRATURE) as f64;
+    ((reflected / n) as f32, (refracted / n) as f32)
 }
 
 impl Table {
@@ -63,8 +73,8 @@ impl Table {
         let mut internal = 0.0f64;
         for (i, t) in transmittance.iter_mut().enumerate() {
             let mu = (i as f32 / (RESOLUTION - 1) as f32).max(1e-6);
-            *t = 1.0 - reflectance(eta, alpha, mu);
-            internal += (reflectance(1.0 / eta, alpha, mu) * mu) as f64;
+            *t = albedos(eta, alpha, mu).1;
+            internal += (albedos(1.0 / eta, alpha, mu).0 * mu) as f64;
         }
         Table {
             key: (eta.to_bits(), alpha.to_bits()),
@@ -118,15 +128,20 @@ mod tests {
 
     #[test]
     fn a_smooth_coat_transmits_what_fresnel_does_not_reflect() {
-        // At α → 0 the albedo is the Fresnel reflectance of the direction.
+        // At α → 0 the albedos are the Fresnel reflectance of the
+        // direction and the rest.
         for mu in [1.0f32, 0.6, 0.2] {
-            let r = reflectance(1.5, 1e-4, mu);
+            let (r, t) = albedos(1.5, 1e-4, mu);
             let f = fresnel_dielectric(mu, 1.5).0;
-            assert!((r - f).abs() < 1e-3, "{mu}: {r} vs {f}");
+            assert!(
+                (r - f).abs() < 1e-3 && (t - (1.0 - f)).abs() < 1e-3,
+                "{mu}: {r} {t} vs {f}"
+            );
         }
-        // Index 1 reflects nothing; a rough coat loses no more than its
-        // Fresnel reflectance at grazing.
-        assert!(reflectance(1.0, 0.3, 0.5).abs() < 1e-6);
+        // Index 1 reflects nothing and, smooth, transmits everything; a
+        // rough coat's masking loses some of each.
+        let (r, t) = albedos(1.0, 0.3, 0.5);
+        assert!(r.abs() < 1e-6 && t < 1.0 && t > 0.9, "{r} {t}");
         let t = Table::build(1.5, 0.3);
         assert!(t.transmittance.iter().all(|&t| (0.0..=1.0).contains(&t)));
         assert!((t.at(1.0) - 0.96).abs() < 0.01, "{}", t.at(1.0));
