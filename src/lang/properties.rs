@@ -127,7 +127,7 @@ block! { RENDER = "render" in render {
     SAMPLES = prop("samples", "whole number", "samples per pixel", "7");
     DEPTH = prop("depth", "whole number", "the most bounces of a path", "3");
     SEED = prop("seed", "whole number", "the seed of the random numbers", "42");
-    BACKGROUND = prop("background", "colour or texture", "what rays that hit nothing see", "rgb(0.3, 0.2, 0.1)");
+    BACKGROUND = prop("background", "colour, gradient or environment", "what rays that hit nothing see", "rgb(0.3, 0.2, 0.1)");
     FPS = prop("fps", "number > 0", "frames per second of an animation", "12");
 }}
 

@@ -17,7 +17,7 @@ use glam::{DVec3, Vec2, Vec3};
 
 use super::environment::EnvironmentMap;
 use super::light_tree::LightBounds;
-use super::lights::luminance;
+use super::lights::{luminance, LightSample};
 use crate::geometry::ray::SurfacePoint;
 use crate::sampling::warp::sin_cos_turn;
 use crate::scene::light::placed_lamps;
@@ -49,18 +49,6 @@ pub(super) enum LampLight {
         value: Vec3,
     },
     Environment(Box<EnvironmentMap>),
-}
-
-/// A light sampled from a shading point: what [`super::lights::LightSample`]
-/// holds, without the choice's probability.
-pub(super) struct LampSample {
-    pub dir: Vec3,
-    pub dist: f32,
-    pub emitted: Vec3,
-    /// Solid-angle density, or 1 for a delta light.
-    pub pdf: f32,
-    pub target: SurfacePoint,
-    pub delta: bool,
 }
 
 /// The lamps and environment of `scene` in the frame whose origin is the
@@ -221,14 +209,16 @@ impl LampLight {
         }
     }
 
-    /// A light sample seen from `p` with the draws `u`; a distant light's
-    /// shadow ray ends `far` away. `None` if nothing arrives.
-    pub fn sample(&self, p: Vec3, u: Vec2, far: f32) -> Option<LampSample> {
+    /// A light sample seen from `p` with the draws `u`, its density not yet
+    /// multiplied by the choice's probability (1 for a delta light); a
+    /// distant light's shadow ray ends `far` away. `None` if nothing
+    /// arrives.
+    pub fn sample(&self, p: Vec3, u: Vec2, far: f32) -> Option<LightSample> {
         let at_point = |at: Vec3, intensity: Vec3| {
             let to = at - p;
             let d2 = to.length_squared();
             let dist = d2.sqrt();
-            (dist > 0.0).then(|| LampSample {
+            (dist > 0.0).then(|| LightSample {
                 dir: to / dist,
                 dist,
                 emitted: intensity / d2,
@@ -241,7 +231,7 @@ impl LampLight {
                 delta: true,
             })
         };
-        let distant = |dir: Vec3, emitted: Vec3, pdf: f32, delta: bool| LampSample {
+        let distant = |dir: Vec3, emitted: Vec3, pdf: f32, delta: bool| LightSample {
             dir,
             dist: far,
             emitted,

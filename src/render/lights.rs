@@ -457,15 +457,9 @@ impl LightList {
         let lamp = &self.lamps[i - self.prepared.len()];
         let (centre, radius) = self.reach;
         let far = (p - centre).length() + 2.0 * radius + 1.0;
-        let s = lamp.sample(p, sampler.next_2d(), far)?;
-        Some(LightSample {
-            dir: s.dir,
-            dist: s.dist,
-            emitted: s.emitted,
-            pdf: s.pdf * select as f32,
-            target: s.target,
-            delta: s.delta,
-        })
+        let mut s = lamp.sample(p, sampler.next_2d(), far)?;
+        s.pdf *= select as f32;
+        Some(s)
     }
 
     /// A point of shape light `i`, chosen with probability `select`, seen
