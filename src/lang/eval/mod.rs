@@ -21,6 +21,7 @@ mod facing;
 mod files;
 mod functions;
 mod issue;
+mod lamps;
 mod limits;
 mod math;
 mod motion;
