@@ -290,13 +290,7 @@ impl LampLight {
         match self {
             &LampLight::Sun {
                 toward, cos_max, ..
-            } if cos_max < 1.0 => {
-                if toward.dot(dir) >= cos_max {
-                    1.0 / (TAU * (1.0 - cos_max))
-                } else {
-                    0.0
-                }
-            }
+            } if cos_max < 1.0 && toward.dot(dir) >= cos_max => 1.0 / (TAU * (1.0 - cos_max)),
             LampLight::Environment(map) => map.pdf(dir),
             _ => 0.0,
         }
