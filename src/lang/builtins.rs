@@ -311,6 +311,16 @@ pub const TABLE: &[Builtin] = &[
         "A vertical gradient background.",
     ),
     f(
+        "environment",
+        Kind::Function,
+        1,
+        1,
+        &["rotate", "strength"],
+        Body::Call(Evaluator::environment_call),
+        "environment(\"sky.exr\", rotate: 0, strength: 1)",
+        "An environment light: a latitude–longitude .exr or .hdr image of radiance around the scene, turned by `rotate` degrees about +y, scaled by `strength`; importance-sampled.",
+    ),
+    f(
         "solid",
         Kind::Texture,
         1,

@@ -22,6 +22,7 @@ type Entries<T> = Mutex<HashMap<PathBuf, (Option<SystemTime>, T)>>;
 #[derive(Default)]
 pub struct AssetCache {
     images: Entries<Arc<ImageData>>,
+    hdr_images: Entries<Arc<ImageData>>,
     meshes: Entries<LoadedMesh>,
 }
 
@@ -58,6 +59,14 @@ impl AssetCache {
     /// The image at `path`, loaded once per modification.
     pub fn image(&self, path: &Path) -> Result<Arc<ImageData>, ImageLoadError> {
         cached(&self.images, path, || ImageData::load(path).map(Arc::new))
+    }
+
+    /// The high-dynamic-range image at `path`, loaded once per
+    /// modification.
+    pub fn hdr_image(&self, path: &Path) -> Result<Arc<ImageData>, ImageLoadError> {
+        cached(&self.hdr_images, path, || {
+            ImageData::load_hdr(path).map(Arc::new)
+        })
     }
 
     /// The mesh at `path`, loaded once per modification from a file of at

@@ -340,7 +340,7 @@ impl<'a> Tracer<'a> {
         let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
         let in_medium = scattered.is_some();
         let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
-            path.radiance += path.throughput * background(&self.scene.settings.background, ray.dir);
+            path.radiance += path.throughput * self.escaped(path.previous, nee, ray.dir);
             return false;
         };
         sampler.begin(Dim::Bsdf);
@@ -398,6 +398,18 @@ impl<'a> Tracer<'a> {
         true
     }
 
+    /// The radiance a path finds leaving the scene along `dir`: the
+    /// background, unless the scene has lights that are not shapes, which
+    /// the light list looks up and weighs.
+    #[inline(always)]
+    fn escaped(&self, previous: Previous, nee: bool, dir: Vec3) -> Vec3 {
+        let bg = &self.scene.settings.background;
+        if self.lights.has_lamps() {
+            return self.lights.escaped(bg, previous, nee, dir);
+        }
+        background(bg, dir)
+    }
+
     /// Next-event estimation at `hit` (whose normal for choosing a light is
     /// `normal`, zero in a medium): samples a light point, and if
     /// `scatter(wi)` gives the scattering value (BSDF × cosine) and its own
@@ -431,7 +443,11 @@ impl<'a> Tracer<'a> {
         if self.world.occluded(&shadow, 0.0, SHADOW_END, media) {
             return 1;
         }
-        let weight = power_heuristic(s.pdf, scatter_pdf);
+        let weight = if s.delta {
+            1.0
+        } else {
+            power_heuristic(s.pdf, scatter_pdf)
+        };
         let seen = transmittance(&shadow, SHADOW_END, media.as_slice());
         *radiance += throughput * f * s.emitted * (seen * weight / s.pdf);
         1
@@ -500,11 +516,14 @@ fn transmittance(ray: &Ray, t_end: f32, segments: &[MediumSegment]) -> f32 {
     (-depth).exp()
 }
 
-/// The colour seen along a ray that leaves the scene.
+/// The colour seen along a ray that leaves the scene, for a solid or
+/// gradient background (an environment is a light: the light list looks it
+/// up, [`LightList::escaped`], and here it is black).
 #[inline]
 pub fn background(bg: &Background, dir: Vec3) -> Vec3 {
     match *bg {
         Background::Solid(c) => c,
+        Background::Environment(_) => Vec3::ZERO,
         Background::Gradient { bottom, top } => {
             let t = 0.5 * (dir.normalize_or_zero().y + 1.0);
             bottom.lerp(top, t)

@@ -19,7 +19,7 @@ use crate::lang::names;
 use crate::lang::pretty;
 use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
-use crate::scene::{Material, Texture};
+use crate::scene::{Environment, Material, Texture};
 
 /// Whether `name` is a built-in function.
 pub fn is_function(name: &str) -> bool {
@@ -228,6 +228,31 @@ impl Evaluator {
         let bottom = self.color(&b, bs);
         let top = self.color(&t, ts);
         Ok(Value::Gradient(bottom?, top?))
+    }
+
+    pub(crate) fn environment_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (v, s) = a.positional[0].clone();
+        let path = self.string(&v, s);
+        let (rotate, rs) = self.keyword_num(a, "rotate", 0.0)?;
+        self.range(
+            rotate.is_finite(),
+            rs,
+            format!("the rotation must be a finite angle, not {rotate}"),
+            "the rotation is in degrees about +y, e.g. `rotate: 90`",
+        )?;
+        let (strength, ss) = self.keyword_num(a, "strength", 1.0)?;
+        self.range(
+            strength.is_finite() && strength >= 0.0,
+            ss,
+            format!("the strength must be at least 0 and finite, not {strength}"),
+            "the strength scales the image's radiance, e.g. `strength: 1.5`",
+        )?;
+        let image = self.environment_image(&path?, s)?;
+        Ok(Value::Environment(Rc::new(Environment {
+            image,
+            rotate: rotate as f32,
+            strength: strength as f32,
+        })))
     }
 
     fn keyword_bool(&mut self, a: &mut Args, name: &str, default: bool) -> Eval<bool> {
