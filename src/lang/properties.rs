@@ -138,7 +138,7 @@ block! { SPOT_LIGHT = "spot_light" in spot_light {
     AT = prop("at", "vector", "the position (default the origin)", "(0, 5, 0)");
     TO = prop("to", "vector", "a point on the axis, not `at` (default below `at`)", "(0, 0, 0)");
     INTENSITY = prop("intensity", "colour", "the intensity on the axis, W/sr (default 1)", "rgb(10, 10, 10)");
-    ANGLE = prop("angle", "degrees, above 0 up to 180", "the cone's half angle, where the light ends (default 30)", "30");
+    ANGLE = prop("angle", "degrees, above 0 up to 180", "the cone's half angle, where the light ends (default 30)", "40");
     FALLOFF = prop("falloff", "degrees, 0 up to `angle`", "the half angle of full light, fading linearly to `angle` (default ¾ of `angle`)", "25");
 }}
 

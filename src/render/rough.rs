@@ -60,7 +60,7 @@ impl Conductor {
         let m = (wo + wi).normalize();
         let c = wo.dot(m);
         let pdf = ggx.visible(wo, m) / (4.0 * c);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = fresnel_conductor(c, self.eta, self.k) * ggx.d(m) * ggx.g_separable(wo, wi, m)

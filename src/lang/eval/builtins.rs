@@ -567,10 +567,9 @@ impl Evaluator {
             0.5,
             "glTF's perceptual roughness: 0 is smooth, 1 fully rough (α = roughness²)",
         );
-        let map = match a.keyword("metallic_roughness") {
-            Some((v, s)) => Some(self.texture(&v, s)),
-            None => None,
-        };
+        let map = a
+            .keyword("metallic_roughness")
+            .map(|(v, s)| self.texture(&v, s));
         Ok(self.new_material(Material::MetalRough {
             base: base?,
             metallic: metallic?,
