@@ -1,6 +1,7 @@
 //! The scattering at one hit: a closed `Bsdf` (lambertian, fuzzy metal,
 //! mirror, dielectric, the microfacet lobes of [`super::rough`], the
-//! isotropic phase function of media, and emitters that only emit), built once per hit with its texture already looked up
+//! isotropic phase function of media, and emitters that only emit), built
+//! once per hit with its texture already looked up
 //! ([`super::material::bsdf`]). The integrator samples it, evaluates it for
 //! light samples and asks its density, without knowing which one it is.
 //!
@@ -19,7 +20,7 @@ use crate::sampling::Sampler;
 
 /// How a hit scatters light, with its colour and frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Bsdf {
+pub enum Bsdf<'a> {
     /// Ideal diffuse reflection about the shading `normal`; nothing leaves
     /// below the geometric surface.
     Lambertian {
@@ -45,30 +46,14 @@ pub enum Bsdf {
     /// Refraction or reflection by exact Fresnel (specular); `eta` is the
     /// ratio of the index of refraction the ray leaves to the one it enters.
     Dielectric { eta: f32, normal: Vec3 },
-    /// A rough conductor about the shading `normal`, its roughness along
-    /// the tangent of [`Frame::around_y`]; nothing leaves below the
-    /// geometric surface.
-    Conductor {
-        lobe: rough::Conductor,
-        normal: Vec3,
-        geo_normal: Vec3,
-    },
-    /// Rough glass: `normal` faces the viewer and `lobe.eta` is the index
-    /// behind it over the index in front.
-    RoughDielectric {
-        lobe: rough::Dielectric,
-        normal: Vec3,
-        geo_normal: Vec3,
-    },
-    /// A coated diffuse surface.
-    Plastic {
-        lobe: rough::Plastic,
-        normal: Vec3,
-        geo_normal: Vec3,
-    },
-    /// glTF's metallic–roughness BRDF.
-    MetalRough {
-        lobe: rough::MetalRough,
+    /// A microfacet lobe (rough conductor, rough glass, plastic or glTF's
+    /// metallic–roughness BRDF) about the shading `normal`, its
+    /// anisotropic roughness along the tangent of [`Frame::around_y`].
+    /// Reflected light never leaves below the geometric surface nor
+    /// refracted light above it; rough glass's `normal` faces the viewer,
+    /// its `eta` the index behind over the index in front.
+    Rough {
+        lobe: rough::Lobe<'a>,
         normal: Vec3,
         geo_normal: Vec3,
     },
@@ -90,7 +75,7 @@ pub struct BsdfSample {
     pub specular: bool,
 }
 
-impl Bsdf {
+impl Bsdf<'_> {
     /// Light the surface emits towards the path.
     #[inline]
     pub fn emitted(&self) -> Vec3 {
@@ -122,14 +107,10 @@ impl Bsdf {
             Bsdf::Lambertian { normal, .. }
             | Bsdf::FuzzyMetal { normal, .. }
             | Bsdf::Mirror { normal, .. }
-            | Bsdf::Dielectric { normal, .. }
-            | Bsdf::Conductor { normal, .. }
-            | Bsdf::Plastic { normal, .. }
-            | Bsdf::MetalRough { normal, .. } => normal,
+            | Bsdf::Dielectric { normal, .. } => normal,
             // Rough glass gathers light from both sides.
-            Bsdf::RoughDielectric { .. } | Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => {
-                Vec3::ZERO
-            }
+            Bsdf::Rough { lobe, normal, .. } if !lobe.transmits() => normal,
+            Bsdf::Rough { .. } | Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => Vec3::ZERO,
         }
     }
 
@@ -186,22 +167,7 @@ impl Bsdf {
             Bsdf::Dielectric { eta, normal } => {
                 specular(dielectric(-wo, normal, eta, u1), Vec3::ONE)
             }
-            Bsdf::Conductor {
-                lobe,
-                normal,
-                geo_normal,
-            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2)),
-            Bsdf::RoughDielectric {
-                lobe,
-                normal,
-                geo_normal,
-            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2, u1)),
-            Bsdf::Plastic {
-                lobe,
-                normal,
-                geo_normal,
-            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2, u1)),
-            Bsdf::MetalRough {
+            Bsdf::Rough {
                 lobe,
                 normal,
                 geo_normal,
@@ -216,13 +182,9 @@ impl Bsdf {
     #[inline]
     pub fn sample_from(&self, wo: Vec3, sampler: &mut Sampler) -> Option<BsdfSample> {
         let (two, one) = match self {
-            Bsdf::Lambertian { .. } | Bsdf::Isotropic { .. } | Bsdf::Conductor { .. } => {
-                (true, false)
-            }
-            Bsdf::FuzzyMetal { .. }
-            | Bsdf::RoughDielectric { .. }
-            | Bsdf::Plastic { .. }
-            | Bsdf::MetalRough { .. } => (true, true),
+            Bsdf::Lambertian { .. } | Bsdf::Isotropic { .. } => (true, false),
+            Bsdf::FuzzyMetal { .. } => (true, true),
+            Bsdf::Rough { lobe, .. } => (true, lobe.chooses()),
             Bsdf::Dielectric { .. } => (false, true),
             Bsdf::Mirror { .. } | Bsdf::Emitter { .. } => (false, false),
         };
@@ -259,22 +221,7 @@ impl Bsdf {
                 let pdf = fuzz::pdf(reflect(-wo, normal), fuzz, wi);
                 (pdf > 0.0).then_some((albedo * pdf, pdf))
             }
-            Bsdf::Conductor {
-                lobe,
-                normal,
-                geo_normal,
-            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
-            Bsdf::RoughDielectric {
-                lobe,
-                normal,
-                geo_normal,
-            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
-            Bsdf::Plastic {
-                lobe,
-                normal,
-                geo_normal,
-            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
-            Bsdf::MetalRough {
+            Bsdf::Rough {
                 lobe,
                 normal,
                 geo_normal,
@@ -387,7 +334,7 @@ mod tests {
     }
 
     /// Every scattering BSDF under test, with the direction it is seen from.
-    fn scattering() -> Vec<(Bsdf, Vec3)> {
+    fn scattering() -> Vec<(Bsdf<'static>, Vec3)> {
         let albedo = Vec3::new(0.9, 0.5, 0.2);
         let mut out = Vec::new();
         for elevation in [70.0, 25.0] {

@@ -5,13 +5,13 @@
 //! reflectance 2·mean(R′(μ)·μ) over the same cosines, where R′ is the
 //! albedo of its GGX reflection seen from inside (index 1/η). Both albedos
 //! count single scattering only, with separable masking. Building one costs
-//! about a millisecond, so each thread keeps the last few it built.
-
-use std::cell::RefCell;
+//! about a millisecond, so [`Coats`] builds each scene's tables once per
+//! render, before the first path, and a hit only reads them.
 
 use glam::{Vec2, Vec3};
 
 use super::microfacet::{fresnel_dielectric, reflect, refract, Ggx};
+use crate::scene::{Material, MaterialId, Scene};
 
 /// Cosines the transmittance is tabulated at.
 const RESOLUTION: usize = 64;
@@ -19,18 +19,11 @@ const RESOLUTION: usize = 64;
 /// Quadrature points per axis over the visible-normal square.
 const QUADRATURE: usize = 32;
 
-/// Tables a thread keeps.
-const KEPT: usize = 8;
-
 /// One coat's tables.
-struct Table {
-    key: (u32, u32),
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
     transmittance: [f32; RESOLUTION],
     internal: f32,
-}
-
-thread_local! {
-    static TABLES: RefCell<Vec<Table>> = const { RefCell::new(Vec::new()) };
 }
 
 /// The albedos of GGX reflection and refraction of roughness `alpha` at
@@ -68,7 +61,9 @@ fn albedos(eta: f32, alpha: f32, mu: f32) -> (f32, f32) {
 }
 
 impl Table {
-    fn build(eta: f32, alpha: f32) -> Table {
+    /// The tables of a coat of relative index `eta` and GGX roughness
+    /// `alpha`.
+    pub fn build(eta: f32, alpha: f32) -> Table {
         let mut transmittance = [0.0; RESOLUTION];
         let mut internal = 0.0f64;
         for (i, t) in transmittance.iter_mut().enumerate() {
@@ -77,49 +72,69 @@ impl Table {
             internal += (albedos(1.0 / eta, alpha, mu).0 * mu) as f64;
         }
         Table {
-            key: (eta.to_bits(), alpha.to_bits()),
             transmittance,
             internal: (2.0 * internal / RESOLUTION as f64) as f32,
         }
     }
 
-    /// The transmittance at cosine `mu`, interpolated linearly.
-    fn at(&self, mu: f32) -> f32 {
+    /// The coat's transmittance towards a direction of cosine `mu`,
+    /// interpolated linearly.
+    #[inline]
+    pub fn at(&self, mu: f32) -> f32 {
         let x = mu.clamp(0.0, 1.0) * (RESOLUTION - 1) as f32;
         let i = (x as usize).min(RESOLUTION - 2);
         let w = x - i as f32;
         (1.0 - w) * self.transmittance[i] + w * self.transmittance[i + 1]
     }
+
+    /// The coat's hemispherical internal reflectance.
+    #[inline]
+    pub fn internal(&self) -> f32 {
+        self.internal
+    }
 }
 
-/// Runs `f` on the table of the coat (`eta`, `alpha`), building it if this
-/// thread has not kept it.
-fn with_table<R>(eta: f32, alpha: f32, f: impl FnOnce(&Table) -> R) -> R {
-    TABLES.with_borrow_mut(|tables| {
-        let key = (eta.to_bits(), alpha.to_bits());
-        let i = match tables.iter().position(|t| t.key == key) {
-            Some(i) => i,
-            None => {
-                if tables.len() == KEPT {
-                    tables.remove(0);
+/// The coat tables of a scene's plastic materials: one per distinct
+/// (index, roughness), found by material.
+#[derive(Debug, Default)]
+pub struct Coats {
+    tables: Vec<Table>,
+    /// Per material of the scene: its table's index, if it is a plastic.
+    of_material: Vec<Option<usize>>,
+}
+
+impl Coats {
+    /// The tables every plastic of `scene` reads.
+    pub fn for_scene(scene: &Scene) -> Coats {
+        let mut keys: Vec<(u32, u32)> = Vec::new();
+        let mut tables = Vec::new();
+        let of_material = scene
+            .materials
+            .iter()
+            .map(|m| match *m {
+                Material::Plastic { ior, alpha, .. } => {
+                    let key = (ior.to_bits(), alpha.to_bits());
+                    Some(keys.iter().position(|k| *k == key).unwrap_or_else(|| {
+                        keys.push(key);
+                        tables.push(Table::build(ior, alpha));
+                        tables.len() - 1
+                    }))
                 }
-                tables.push(Table::build(eta, alpha));
-                tables.len() - 1
-            }
-        };
-        f(&tables[i])
-    })
-}
+                _ => None,
+            })
+            .collect();
+        Coats {
+            tables,
+            of_material,
+        }
+    }
 
-/// The coat's transmittance towards a direction of cosine `mu`.
-pub fn transmittance(eta: f32, alpha: f32, mu: f32) -> f32 {
-    with_table(eta, alpha, |t| t.at(mu))
-}
-
-/// The coat's transmittances towards cosines `a` and `b`, and its internal
-/// reflectance.
-pub fn transmittances(eta: f32, alpha: f32, a: f32, b: f32) -> (f32, f32, f32) {
-    with_table(eta, alpha, |t| (t.at(a), t.at(b), t.internal))
+    /// The table of the plastic material `id`.
+    #[inline]
+    pub fn of(&self, id: MaterialId) -> &Table {
+        let k = self.of_material[id.0 as usize].expect("a coat table for every plastic");
+        &self.tables[k]
+    }
 }
 
 #[cfg(test)]

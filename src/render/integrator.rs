@@ -22,6 +22,7 @@ use glam::Vec3;
 
 use super::bsdf::BsdfSample;
 use super::camera::CameraRays;
+use super::coat::Coats;
 use super::lights::LightList;
 use super::material;
 use super::options::RenderOptions;
@@ -116,6 +117,8 @@ pub struct Tracer<'a> {
     /// The world's set of primitives when its rays walk it in packets
     /// ([`World::packet_set`], asked once here, not per sample).
     pub packets: Option<&'a PrimitiveSet>,
+    /// The coat tables of the scene's plastics, built once here.
+    pub coats: Coats,
 }
 
 /// How the last scattering chose the current ray's direction.
@@ -181,6 +184,7 @@ impl<'a> Tracer<'a> {
             max_depth: options.max_depth,
             light_sampling: options.light_sampling,
             packets: world.packet_set(),
+            coats: Coats::for_scene(scene),
         }
     }
 
@@ -344,7 +348,7 @@ impl<'a> Tracer<'a> {
             return false;
         };
         sampler.begin(Dim::Bsdf);
-        let bsdf = material::bsdf(self.scene, &hit, self.world.origin());
+        let bsdf = material::bsdf(self.scene, &self.coats, &hit, self.world.origin());
         let wo = -ray.dir;
         let sample = bsdf.sample_from(wo, sampler);
         let emitted = bsdf.emitted();

@@ -6,9 +6,10 @@
 use glam::Vec3;
 
 use super::bsdf::Bsdf;
+use super::coat::Coats;
 use super::fuzz::SPECULAR_FUZZ;
 use super::microfacet::conductor_of_reflectance;
-use super::rough;
+use super::rough::{self, Lobe};
 use super::texture::lookup;
 use crate::geometry::Hit;
 use crate::scene::material::ConductorFresnel;
@@ -16,11 +17,17 @@ use crate::scene::{Material, Scene};
 
 /// The scattering of `hit`'s material at `hit`, a hit of a world whose
 /// frame has its origin at the scene point `frame`: textures are looked up
-/// at the hit's scene point, so they do not move with the frame.
+/// at the hit's scene point, so they do not move with the frame. A plastic
+/// reads its coat's tables from `coats`.
 #[inline]
-pub fn bsdf(scene: &Scene, hit: &Hit, frame: Vec3) -> Bsdf {
+pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, frame: Vec3) -> Bsdf<'a> {
     let albedo = |id| lookup(scene, id, hit.uv, hit.point + frame);
     let (normal, geo_normal) = (hit.normal, hit.geo_normal);
+    let rough = |lobe| Bsdf::Rough {
+        lobe,
+        normal,
+        geo_normal,
+    };
     match *scene.material(hit.material) {
         Material::Lambertian { albedo: tex } => Bsdf::Lambertian {
             albedo: albedo(tex),
@@ -57,33 +64,22 @@ pub fn bsdf(scene: &Scene, hit: &Hit, frame: Vec3) -> Bsdf {
                 ConductorFresnel::Ior { eta, k } => (eta, k),
                 ConductorFresnel::Reflectance(tex) => conductor_of_reflectance(albedo(tex)),
             };
-            Bsdf::Conductor {
-                lobe: rough::Conductor { eta, k, alpha },
-                normal,
-                geo_normal,
-            }
+            rough(Lobe::Conductor(rough::Conductor { eta, k, alpha }))
         }
-        Material::RoughDielectric { ior, alpha } => Bsdf::RoughDielectric {
-            lobe: rough::Dielectric {
-                eta: if hit.front_face { ior } else { 1.0 / ior },
-                alpha,
-            },
-            normal,
-            geo_normal,
-        },
+        Material::RoughDielectric { ior, alpha } => rough(Lobe::Dielectric(rough::Dielectric {
+            eta: if hit.front_face { ior } else { 1.0 / ior },
+            alpha,
+        })),
         Material::Plastic {
             albedo: tex,
             ior,
             alpha,
-        } => Bsdf::Plastic {
-            lobe: rough::Plastic {
-                albedo: albedo(tex),
-                eta: ior,
-                alpha,
-            },
-            normal,
-            geo_normal,
-        },
+        } => rough(Lobe::Plastic(rough::Plastic {
+            albedo: albedo(tex),
+            eta: ior,
+            alpha,
+            coat: coats.of(hit.material),
+        })),
         Material::MetalRough {
             base,
             metallic,
@@ -98,15 +94,11 @@ pub fn bsdf(scene: &Scene, hit: &Hit, frame: Vec3) -> Bsdf {
                 }
                 None => (roughness, metallic),
             };
-            Bsdf::MetalRough {
-                lobe: rough::MetalRough {
-                    base: albedo(base),
-                    metallic: m.clamp(0.0, 1.0),
-                    alpha: r * r,
-                },
-                normal,
-                geo_normal,
-            }
+            rough(Lobe::MetalRough(rough::MetalRough {
+                base: albedo(base),
+                metallic: m.clamp(0.0, 1.0),
+                alpha: r * r,
+            }))
         }
     }
 }

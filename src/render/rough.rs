@@ -3,15 +3,15 @@
 //! a rough conductor and a rough dielectric as Mitsuba 3's
 //! `roughconductor` and `roughdielectric` (GGX, separable Smith masking,
 //! visible-normal sampling, radiance transport), a coated diffuse as its
-//! `roughplastic`, and glTF 2.0's metallic–roughness BRDF. Each returns
-//! f·cos θi and the density its sampling gives, as [`super::bsdf::Bsdf`]
-//! does.
+//! `roughplastic`, and glTF 2.0's metallic–roughness BRDF, one [`Lobe`]
+//! for [`super::bsdf::Bsdf`]. Each returns f·cos θi and the density its
+//! sampling gives, as the BSDF does.
 
 use std::f32::consts::FRAC_1_PI;
 
 use glam::{Vec2, Vec3};
 
-use super::coat;
+use super::coat::Table;
 use super::microfacet::{
     fresnel_conductor, fresnel_dielectric, fresnel_schlick, reflect, refract, Ggx,
 };
@@ -23,6 +23,73 @@ pub type Sampled = (Vec3, Vec3, f32);
 #[inline]
 fn cosine(u: Vec2) -> Vec3 {
     crate::sampling::warp::cosine_hemisphere(Vec3::Z, u)
+}
+
+/// One of the microfacet models with its parameters at a hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lobe<'a> {
+    Conductor(Conductor),
+    Dielectric(Dielectric),
+    Plastic(Plastic<'a>),
+    MetalRough(MetalRough),
+}
+
+impl Lobe<'_> {
+    /// Whether sampling chooses between lobes with a 1-D number (beside
+    /// the 2-D one every lobe draws its direction with).
+    #[inline]
+    pub fn chooses(&self) -> bool {
+        !matches!(self, Lobe::Conductor(_))
+    }
+
+    /// Whether light also arrives through the surface (refraction), so
+    /// that light selection may not skip lights behind it.
+    #[inline]
+    pub fn transmits(&self) -> bool {
+        matches!(self, Lobe::Dielectric(_))
+    }
+
+    /// A direction drawn with `u` (and `u1` where [`Lobe::chooses`]).
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u: Vec2, u1: f32) -> Option<Sampled> {
+        match self {
+            Lobe::Conductor(l) => l.sample(wo, u),
+            Lobe::Dielectric(l) => l.sample(wo, u, u1),
+            Lobe::Plastic(l) => l.sample(wo, u, u1),
+            Lobe::MetalRough(l) => l.sample(wo, u, u1),
+        }
+    }
+
+    /// f·cos θi towards `wi` and the density [`Lobe::sample`] gives it.
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
+        match self {
+            Lobe::Conductor(l) => l.eval_pdf(wo, wi),
+            Lobe::Dielectric(l) => l.eval_pdf(wo, wi),
+            Lobe::Plastic(l) => l.eval_pdf(wo, wi),
+            Lobe::MetalRough(l) => l.eval_pdf(wo, wi),
+        }
+    }
+}
+
+/// A sample of a GGX reflection lobe of roughness `alpha` (chosen with
+/// probability `specular` by `u1`) beside a cosine-weighted diffuse one,
+/// weighed by `eval_pdf`, the mixture's value and density.
+#[inline]
+fn sample_mixture(
+    wo: Vec3,
+    u: Vec2,
+    u1: f32,
+    (specular, alpha): (f32, f32),
+    eval_pdf: impl FnOnce(Vec3) -> Option<(Vec3, f32)>,
+) -> Option<Sampled> {
+    let wi = if u1 < specular {
+        reflect(wo, Ggx::new(Vec2::splat(alpha)).sample_visible(wo, u))
+    } else {
+        cosine(u)
+    };
+    let (f, pdf) = eval_pdf(wi)?;
+    Some((wi, f / pdf, pdf))
 }
 
 /// GGX reflection off a conductor of complex index `eta + i k`.
@@ -151,15 +218,17 @@ impl Dielectric {
 /// relative index `eta`, as Mitsuba 3's `roughplastic`: the coat's GGX
 /// reflection plus the base seen through the coat's directional
 /// transmittance on the way in and out, amplified by the inter-reflections
-/// under the coat (its hemispherical internal reflectance).
+/// under the coat (its hemispherical internal reflectance), read from the
+/// coat's `coat` tables.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plastic {
+pub struct Plastic<'a> {
     pub albedo: Vec3,
     pub eta: f32,
     pub alpha: f32,
+    pub coat: &'a Table,
 }
 
-impl Plastic {
+impl Plastic<'_> {
     /// The probability of sampling the coat's reflection seen from `wo`,
     /// given the coat's transmittance `t` towards `wo`: the reflected and
     /// transmitted fractions weighted by the coat's and the base's mean
@@ -176,14 +245,10 @@ impl Plastic {
         if wo.z <= 0.0 {
             return None;
         }
-        let t = coat::transmittance(self.eta, self.alpha, wo.z);
-        let wi = if u1 < self.specular_probability(t) {
-            reflect(wo, Ggx::new(Vec2::splat(self.alpha)).sample_visible(wo, u))
-        } else {
-            cosine(u)
-        };
-        let (f, pdf) = self.eval_pdf(wo, wi)?;
-        Some((wi, f / pdf, pdf))
+        let specular = self.specular_probability(self.coat.at(wo.z));
+        sample_mixture(wo, u, u1, (specular, self.alpha), |wi| {
+            self.eval_pdf(wo, wi)
+        })
     }
 
     #[inline]
@@ -196,7 +261,7 @@ impl Plastic {
         let c = wo.dot(m);
         let (fresnel, _) = fresnel_dielectric(c, self.eta);
         let specular = fresnel * ggx.d(m) * ggx.g_separable(wo, wi, m) / (4.0 * wo.z);
-        let (t_o, t_i, internal) = coat::transmittances(self.eta, self.alpha, wo.z, wi.z);
+        let (t_o, t_i, internal) = (self.coat.at(wo.z), self.coat.at(wi.z), self.coat.internal());
         let diffuse =
             self.albedo / (1.0 - internal) * (FRAC_1_PI * t_o * t_i * wi.z / (self.eta * self.eta));
         let p = self.specular_probability(t_o);
@@ -240,13 +305,10 @@ impl MetalRough {
         if wo.z <= 0.0 {
             return None;
         }
-        let wi = if u1 < self.specular_probability(wo) {
-            reflect(wo, Ggx::new(Vec2::splat(self.alpha)).sample_visible(wo, u))
-        } else {
-            cosine(u)
-        };
-        let (f, pdf) = self.eval_pdf(wo, wi)?;
-        Some((wi, f / pdf, pdf))
+        let specular = self.specular_probability(wo);
+        sample_mixture(wo, u, u1, (specular, self.alpha), |wi| {
+            self.eval_pdf(wo, wi)
+        })
     }
 
     #[inline]
@@ -280,62 +342,24 @@ mod tests {
     const ALPHAS: [f32; 6] = [0.001, 0.01, 0.1, 0.3, 0.6, 1.0];
     const COSINES: [f32; 4] = [1.0, 0.5, 0.1, 0.01];
 
-    /// A lobe under test, seen through the interface every lobe offers.
-    trait Lobe: std::fmt::Debug {
-        fn sample(&self, wo: Vec3, u: Vec2, u1: f32) -> Option<Sampled>;
-        fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)>;
-        /// What a sample carries of energy (the dielectric's refraction
-        /// weight without its radiance compression).
-        fn energy(&self, s: &Sampled) -> f32 {
-            s.1.max_element()
-        }
-        /// Whether this is glTF's BRDF with some dielectric part.
-        fn gltf_dielectric(&self) -> bool {
-            false
+    /// What a sample carries of energy (the dielectric's refraction weight
+    /// without its radiance compression).
+    fn energy(lobe: &Lobe, s: &Sampled) -> f32 {
+        match lobe {
+            Lobe::Dielectric(d) if s.0.z < 0.0 => s.1.x * d.eta * d.eta,
+            Lobe::Dielectric(_) => s.1.x,
+            _ => s.1.max_element(),
         }
     }
-    impl Lobe for Conductor {
-        fn sample(&self, wo: Vec3, u: Vec2, _: f32) -> Option<Sampled> {
-            Conductor::sample(self, wo, u)
-        }
-        fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
-            Conductor::eval_pdf(self, wo, wi)
-        }
+
+    /// Whether `lobe` is glTF's BRDF with some dielectric part.
+    fn gltf_dielectric(lobe: &Lobe) -> bool {
+        matches!(lobe, Lobe::MetalRough(m) if m.metallic < 1.0)
     }
-    impl Lobe for Dielectric {
-        fn sample(&self, wo: Vec3, u: Vec2, u1: f32) -> Option<Sampled> {
-            Dielectric::sample(self, wo, u, u1)
-        }
-        fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
-            Dielectric::eval_pdf(self, wo, wi)
-        }
-        fn energy(&self, s: &Sampled) -> f32 {
-            let scale = if s.0.z < 0.0 {
-                self.eta * self.eta
-            } else {
-                1.0
-            };
-            s.1.x * scale
-        }
-    }
-    impl Lobe for Plastic {
-        fn sample(&self, wo: Vec3, u: Vec2, u1: f32) -> Option<Sampled> {
-            Plastic::sample(self, wo, u, u1)
-        }
-        fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
-            Plastic::eval_pdf(self, wo, wi)
-        }
-    }
-    impl Lobe for MetalRough {
-        fn sample(&self, wo: Vec3, u: Vec2, u1: f32) -> Option<Sampled> {
-            MetalRough::sample(self, wo, u, u1)
-        }
-        fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32)> {
-            MetalRough::eval_pdf(self, wo, wi)
-        }
-        fn gltf_dielectric(&self) -> bool {
-            self.metallic < 1.0
-        }
+
+    /// The tables of a coat, kept for the rest of the test run.
+    fn coat(eta: f32, alpha: f32) -> &'static Table {
+        Box::leak(Box::new(Table::build(eta, alpha)))
     }
 
     /// A perfectly reflecting conductor (F = 1 to 10⁻⁴).
@@ -346,26 +370,27 @@ mod tests {
 
     /// Every lobe with white colours at roughness `a` (α for the
     /// microfacet ones, α = r² for glTF's).
-    fn white(a: f32) -> Vec<Box<dyn Lobe>> {
+    fn white(a: f32) -> Vec<Lobe<'static>> {
         vec![
-            Box::new(white_conductor(Vec2::splat(a))),
-            Box::new(white_conductor(Vec2::new(a, (4.0 * a).min(1.0)))),
-            Box::new(Dielectric { eta: 1.5, alpha: a }),
-            Box::new(Dielectric {
+            Lobe::Conductor(white_conductor(Vec2::splat(a))),
+            Lobe::Conductor(white_conductor(Vec2::new(a, (4.0 * a).min(1.0)))),
+            Lobe::Dielectric(Dielectric { eta: 1.5, alpha: a }),
+            Lobe::Dielectric(Dielectric {
                 eta: 1.0 / 1.5,
                 alpha: a,
             }),
-            Box::new(Plastic {
+            Lobe::Plastic(Plastic {
                 albedo: Vec3::ONE,
                 eta: 1.5,
                 alpha: a,
+                coat: coat(1.5, a),
             }),
-            Box::new(MetalRough {
+            Lobe::MetalRough(MetalRough {
                 base: Vec3::ONE,
                 metallic: 1.0,
                 alpha: a,
             }),
-            Box::new(MetalRough {
+            Lobe::MetalRough(MetalRough {
                 base: Vec3::ONE,
                 metallic: 0.0,
                 alpha: a,
@@ -379,14 +404,14 @@ mod tests {
     }
 
     /// Mean and standard error of the sampled energy from `wo`.
-    fn albedo(lobe: &dyn Lobe, wo: Vec3, n: u32, seed: u64) -> (f64, f64) {
+    fn albedo(lobe: &Lobe, wo: Vec3, n: u32, seed: u64) -> (f64, f64) {
         let mut rng = Rng::for_sample(seed, 0, 0, 0);
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for _ in 0..n {
             let u = Vec2::new(rng.next_f32(), rng.next_f32());
             let e = lobe
                 .sample(wo, u, rng.next_f32())
-                .map_or(0.0, |s| lobe.energy(&s)) as f64;
+                .map_or(0.0, |s| energy(lobe, &s)) as f64;
             sum += e;
             sum2 += e * e;
         }
@@ -402,13 +427,13 @@ mod tests {
         for a in ALPHAS {
             for lobe in white(a) {
                 for cos in COSINES {
-                    let (e, se) = albedo(lobe.as_ref(), view(cos), 40_000, 21);
+                    let (e, se) = albedo(&lobe, view(cos), 40_000, 21);
                     // glTF's dielectric weighs its diffuse base by 1 − F at
                     // the half vector of each direction, not by what its
                     // specular lobe takes from the view, so a white base
                     // returns more than 1 (1.54 at α 0.001, cos θ 0.1): up
                     // to the specular share F(cos θo) more.
-                    let bound = match lobe.gltf_dielectric() {
+                    let bound = match gltf_dielectric(&lobe) {
                         true => 1.0 + fresnel_schlick(cos, Vec3::splat(DIELECTRIC_F0)).x as f64,
                         false => 1.0,
                     };
@@ -433,7 +458,7 @@ mod tests {
         for a in [0.001, 0.01] {
             for (i, lobe) in white(a).into_iter().enumerate().take(4) {
                 for cos in [1.0, 0.5] {
-                    let (e, se) = albedo(lobe.as_ref(), view(cos), 100_000, 22 + i as u64);
+                    let (e, se) = albedo(&lobe, view(cos), 100_000, 22 + i as u64);
                     assert!(
                         (e - 1.0).abs() < 0.005 + 4.0 * se,
                         "{lobe:?} cos {cos}: {e} ± {se}"
@@ -455,52 +480,52 @@ mod tests {
                 w
             }
         };
-        let value =
-            |lobe: &dyn Lobe, a: Vec3, b: Vec3| lobe.eval_pdf(a, b).map(|(f, _)| f / b.z.abs());
+        let value = |lobe: &Lobe, a: Vec3, b: Vec3| lobe.eval_pdf(a, b).map(|(f, _)| f / b.z.abs());
         let close = |x: Vec3, y: Vec3| {
             (x - y).abs().max_element() <= 2e-3 * x.max_element().max(y.max_element()) + 1e-6
         };
         for a_ in [0.01f32, 0.1, 0.5, 1.0] {
             let colour = Vec3::new(0.9, 0.5, 0.2);
-            let lobes: [&dyn Lobe; 4] = [
-                &Conductor {
+            let lobes: [Lobe; 4] = [
+                Lobe::Conductor(Conductor {
                     eta: Vec3::new(0.2, 0.9, 1.1),
                     k: Vec3::new(3.9, 2.5, 2.1),
                     alpha: Vec2::new(a_, 0.3),
-                },
-                &Dielectric {
+                }),
+                Lobe::Dielectric(Dielectric {
                     eta: 1.5,
                     alpha: a_,
-                },
-                &Plastic {
+                }),
+                Lobe::Plastic(Plastic {
                     albedo: colour,
                     eta: 1.5,
                     alpha: a_,
-                },
-                &MetalRough {
+                    coat: coat(1.5, a_),
+                }),
+                Lobe::MetalRough(MetalRough {
                     base: colour,
                     metallic: 0.4,
                     alpha: a_,
-                },
+                }),
             ];
             for lobe in lobes {
                 for _ in 0..2000 {
                     let (a, b) = (dir(false), dir(false));
-                    if let (Some(x), Some(y)) = (value(lobe, a, b), value(lobe, b, a)) {
+                    if let (Some(x), Some(y)) = (value(&lobe, a, b), value(&lobe, b, a)) {
                         assert!(close(x, y), "{lobe:?}: f(a, b) {x} vs f(b, a) {y}");
                     }
                 }
             }
             // Refraction: f(a, b) / n_a² = f(b, a) / n_b², where f(b, a) is
             // the interface seen from below (index ratio 1/η).
-            let above = Dielectric {
+            let above = Lobe::Dielectric(Dielectric {
                 eta: 1.5,
                 alpha: a_,
-            };
-            let below = Dielectric {
+            });
+            let below = Lobe::Dielectric(Dielectric {
                 eta: 1.0 / 1.5,
                 alpha: a_,
-            };
+            });
             let mut checked = 0;
             for _ in 0..4000 {
                 let (a, b) = (dir(false), dir(true));
@@ -556,7 +581,7 @@ mod tests {
     /// density integrated over each by a 16 × 16 midpoint rule (6 × 6
     /// misses the glass's reflection squeezed against the horizon), bins expecting
     /// fewer than 5 samples pooled into one.
-    fn chi2(lobe: &dyn Lobe, wo: Vec3, n: u32, seed: u64) -> (f64, f64) {
+    fn chi2(lobe: &Lobe, wo: Vec3, n: u32, seed: u64) -> (f64, f64) {
         const T: usize = 40;
         const P: usize = 80;
         const SUB: usize = 16;
@@ -611,23 +636,24 @@ mod tests {
     fn sampled_directions_follow_the_density_chi_squared() {
         let colour = Vec3::new(0.9, 0.5, 0.2);
         for a in [0.1f32, 0.3, 1.0] {
-            let lobes: [Box<dyn Lobe>; 5] = [
-                Box::new(Conductor {
+            let lobes: [Lobe; 5] = [
+                Lobe::Conductor(Conductor {
                     eta: Vec3::new(0.2, 0.9, 1.1),
                     k: Vec3::new(3.9, 2.5, 2.1),
                     alpha: Vec2::new(a, 0.5),
                 }),
-                Box::new(Dielectric { eta: 1.5, alpha: a }),
-                Box::new(Dielectric {
+                Lobe::Dielectric(Dielectric { eta: 1.5, alpha: a }),
+                Lobe::Dielectric(Dielectric {
                     eta: 1.0 / 1.5,
                     alpha: a,
                 }),
-                Box::new(Plastic {
+                Lobe::Plastic(Plastic {
                     albedo: colour,
                     eta: 1.5,
                     alpha: a,
+                    coat: coat(1.5, a),
                 }),
-                Box::new(MetalRough {
+                Lobe::MetalRough(MetalRough {
                     base: colour,
                     metallic: 0.5,
                     alpha: a,
@@ -635,7 +661,7 @@ mod tests {
             ];
             for (i, lobe) in lobes.iter().enumerate() {
                 for cos in [0.9, 0.3, 0.05] {
-                    let (stat, critical) = chi2(lobe.as_ref(), view(cos), 200_000, 50 + i as u64);
+                    let (stat, critical) = chi2(lobe, view(cos), 200_000, 50 + i as u64);
                     assert!(
                         stat < critical,
                         "{lobe:?} cos {cos}: χ² {stat:.1} ≥ {critical:.1}"
