@@ -430,13 +430,18 @@ impl LightList {
                 if u < d {
                     let distant = self.lamps.len() - self.lamp_leaves;
                     let k = ((u / d * distant as f64) as usize).min(distant - 1);
-                    return Some((self.count - distant + k, d / distant as f64));
+                    return Some((self.count - distant + k, self.distant_probability()));
                 }
                 let u = ((u - d) / (1.0 - d)).min(1.0 - f64::EPSILON);
                 let (i, prob) = self.tree.sample(p.as_dvec3(), n.as_dvec3(), u)?;
                 Some((i, prob * (1.0 - d)))
             }
         }
+    }
+
+    /// By the tree, the probability of choosing one given distant light.
+    fn distant_probability(&self) -> f64 {
+        self.distant_share / (self.lamps.len() - self.lamp_leaves) as f64
     }
 
     /// The probability by power of light number `i`.
@@ -571,11 +576,10 @@ impl LightList {
         dir: Vec3,
     ) -> Vec3 {
         let dir = dir.normalize_or_zero();
-        let mut sum = match background {
-            Background::Environment(_) => Vec3::ZERO,
-            other => integrator::background(other, dir),
-        };
-        for (k, lamp) in self.lamps.iter().enumerate() {
+        let mut sum = integrator::background(background, dir);
+        // Point and spot lights come first and no ray finds them.
+        let distant = &self.lamps[self.lamp_leaves..];
+        for (k, lamp) in (self.lamp_leaves..).zip(distant) {
             let l = lamp.radiance(dir);
             if l == Vec3::ZERO {
                 continue;
@@ -587,9 +591,7 @@ impl LightList {
                     } else {
                         match self.selection {
                             LightSelection::Power => self.lamp_shares[k],
-                            LightSelection::Tree => {
-                                self.distant_share / (self.lamps.len() - self.lamp_leaves) as f64
-                            }
+                            LightSelection::Tree => self.distant_probability(),
                         }
                     };
                     power_heuristic(pdf, select as f32 * lamp.pdf(dir))
