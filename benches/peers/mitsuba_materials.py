@@ -36,7 +36,8 @@ EPS = 0.01
 def load_twins(only):
     """Every twin of every module in the twins folder, in file order."""
     twins = []
-    for path in sorted(TWINS.glob("*.py")):
+    sys.path.insert(0, str(TWINS))
+    for path in sorted(p for p in TWINS.glob("*.py") if not p.name.startswith("_")):
         spec = importlib.util.spec_from_file_location(f"twins_{path.stem}", path)
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)

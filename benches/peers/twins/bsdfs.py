@@ -9,9 +9,7 @@ y axis; Mitsuba's along its shape's dp/du, the parallels around the
 sphere's local z, so the Mitsuba sphere is turned to put its pole on y.
 """
 
-import mitsuba as mi
-
-T = mi.ScalarTransform4f
+from _common import T, rgb, scene
 SIZE = (128, 128)
 DEPTH = 16
 SKY = [0.8, 0.85, 1.0]
@@ -38,28 +36,16 @@ def rt(material):
 
 
 def mitsuba(bsdf):
-    def scene(spp):
-        rgb = lambda c: {"type": "rgb", "value": c}
-        return {
-            "type": "scene",
-            "integrator": {"type": "path", "max_depth": DEPTH},
-            "sensor": {
-                "type": "perspective",
-                "fov_axis": "y",
-                "fov": 30,
-                "to_world": T().look_at(origin=[0, 1.6, 4.6], target=[0, 0.9, 0], up=[0, 1, 0]),
-                "sampler": {"type": "independent", "sample_count": spp},
-                "film": {"type": "hdrfilm", "width": SIZE[0], "height": SIZE[1],
-                         "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-            },
+    def make(spp):
+        return scene([0, 1.6, 4.6], [0, 0.9, 0], 30, SIZE, spp, DEPTH, {
             "sky": {"type": "constant", "radiance": rgb(SKY)},
             "ground": {"type": "sphere", "center": [0, -1000, 0], "radius": 1000,
                        "bsdf": {"type": "diffuse", "reflectance": rgb(GROUND)}},
             "ball": {"type": "sphere",
                      "to_world": T().translate([0, 1, 0]) @ T().rotate([1, 0, 0], -90),
                      "bsdf": bsdf},
-        }
-    return scene
+        })
+    return make
 
 
 def twin(name, material, bsdf):

@@ -12,14 +12,12 @@ the turn (30° about +y); rtlang looks the image up at the nearest pixel,
 Mitsuba interpolates, which on this smooth image is far below the noise.
 """
 
-import math
 import pathlib
 import tempfile
 
 import mitsuba as mi
 import numpy as np
-
-T = mi.ScalarTransform4f
+from _common import T, rgb, scene
 SIZE = (64, 64)
 DEPTH = 8
 GROUND = [0.5, 0.5, 0.5]
@@ -70,35 +68,19 @@ def rt(light, background="rgb(0, 0, 0)"):
 
 
 def mitsuba(emitter):
-    def scene(spp):
-        rgb = lambda c: {"type": "rgb", "value": c}
-        return {
-            "type": "scene",
-            "integrator": {"type": "path", "max_depth": DEPTH},
-            "sensor": {
-                "type": "perspective",
-                "fov_axis": "y",
-                "fov": 50,
-                "to_world": T().look_at(origin=[0, 1.2, 4.5], target=[0, 1.1, 0], up=[0, 1, 0]),
-                "sampler": {"type": "independent", "sample_count": spp},
-                "film": {"type": "hdrfilm", "width": SIZE[0], "height": SIZE[1],
-                         "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-            },
+    def make(spp):
+        return scene([0, 1.2, 4.5], [0, 1.1, 0], 50, SIZE, spp, DEPTH, {
             "light": emitter(),
             "ground": {"type": "sphere", "center": [0, -1000, 0], "radius": 1000,
                        "bsdf": {"type": "diffuse", "reflectance": rgb(GROUND)}},
             "ball": {"type": "sphere", "center": [0, 1, 0], "radius": 1,
                      "bsdf": {"type": "diffuse", "reflectance": rgb(BALL)}},
-        }
-    return scene
+        })
+    return make
 
 
 def twin(name, rt_text, emitter):
     return {"name": name, "rt": rt_text, "mitsuba": mitsuba(emitter), "size": SIZE, "depth": DEPTH}
-
-
-def rgb(c):
-    return {"type": "rgb", "value": c}
 
 
 SUN_DIR = [1.0, 2.0, 1.0]
