@@ -116,6 +116,10 @@ pub struct Tracer<'a> {
     /// The world's set of primitives when its rays walk it in packets
     /// ([`World::packet_set`], asked once here, not per sample).
     pub packets: Option<&'a PrimitiveSet>,
+    /// Whether the world holds a medium ([`World::has_media`]): without,
+    /// paths take a copy of the bounce with no free flight and no
+    /// transmittance in it.
+    pub media: bool,
 }
 
 /// How the last scattering chose the current ray's direction.
@@ -181,6 +185,7 @@ impl<'a> Tracer<'a> {
             max_depth: options.max_depth,
             light_sampling: options.light_sampling,
             packets: world.packet_set(),
+            media: world.has_media(),
         }
     }
 
@@ -290,6 +295,16 @@ impl<'a> Tracer<'a> {
     /// rays traced for it (shadow rays included), one ray after the other.
     #[inline]
     pub fn radiance(&self, ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
+        if self.media {
+            self.radiance_in::<true>(ray, sampler)
+        } else {
+            self.radiance_in::<false>(ray, sampler)
+        }
+    }
+
+    /// [`Tracer::radiance`] in a world with media (`MEDIA`) or without.
+    #[inline(always)]
+    fn radiance_in<const MEDIA: bool>(&self, ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
         let mut path = Path::new(ray);
         let mut media = MediumSegments::default();
         for depth in 0..self.max_depth {
@@ -297,14 +312,15 @@ impl<'a> Tracer<'a> {
             let surface = self
                 .world
                 .intersect_in_media(&path.ray, 0.0, f32::INFINITY, &mut media);
-            if !self.bounce(&mut path, depth, surface, &mut media, sampler) {
+            if !self.bounce::<MEDIA>(&mut path, depth, surface, &mut media, sampler) {
                 break;
             }
         }
         (path.radiance, path.rays)
     }
 
-    /// [`Tracer::bounce`] for one path of a block, kept out of line: the
+    /// [`Tracer::bounce`] for one path of a block (a world of one set of
+    /// primitives, so without media), kept out of line: the
     /// one-ray path inlines its own, whose state then stays in registers
     /// (with one copy for both, out of line, the book-2 scene took 1.1 %
     /// more instructions: callgrind, 64² at 16 spp on one thread).
@@ -317,15 +333,15 @@ impl<'a> Tracer<'a> {
         media: &mut MediumSegments,
         sampler: &mut Sampler,
     ) -> bool {
-        self.bounce(path, depth, surface, media, sampler)
+        self.bounce::<false>(path, depth, surface, media, sampler)
     }
 
     /// Bounce `depth` of `path` once its ray's surface hit (`surface`) and
     /// the stretches of media it crosses (`media`) are known: emission,
     /// light sampling and the scattering. Returns whether the path goes on,
-    /// along its new ray.
+    /// along its new ray. Without `MEDIA` no free flight is sampled.
     #[inline(always)]
-    fn bounce(
+    fn bounce<const MEDIA: bool>(
         &self,
         path: &mut Path,
         depth: u32,
@@ -337,7 +353,11 @@ impl<'a> Tracer<'a> {
         let nee = self.light_sampling && !lights.is_empty();
         let ray = path.ray;
         let t_end = surface.map_or(f32::INFINITY, |h| h.t);
-        let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
+        let scattered = if MEDIA {
+            free_flight(&ray, t_end, media.as_slice(), sampler)
+        } else {
+            None
+        };
         let in_medium = scattered.is_some();
         let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
             path.radiance += path.throughput * background(&self.scene.settings.background, ray.dir);
@@ -353,7 +373,7 @@ impl<'a> Tracer<'a> {
             path.radiance += path.throughput * emitted * weight;
         }
         if nee && bsdf.samples_lights() {
-            path.rays += self.direct(
+            path.rays += self.direct::<MEDIA>(
                 lights,
                 &hit,
                 bsdf.facing(),
@@ -402,10 +422,10 @@ impl<'a> Tracer<'a> {
     /// `normal`, zero in a medium): samples a light point, and if
     /// `scatter(wi)` gives the scattering value (BSDF × cosine) and its own
     /// sampling density, traces a shadow ray and adds the weighted light.
-    /// Returns the rays traced.
+    /// Returns the rays traced. Without `MEDIA` no transmittance is computed.
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    fn direct(
+    fn direct<const MEDIA: bool>(
         &self,
         lights: &LightList,
         hit: &Hit,
@@ -432,7 +452,11 @@ impl<'a> Tracer<'a> {
             return 1;
         }
         let weight = power_heuristic(s.pdf, scatter_pdf);
-        let seen = transmittance(&shadow, SHADOW_END, media.as_slice());
+        let seen = if MEDIA {
+            transmittance(&shadow, SHADOW_END, media.as_slice())
+        } else {
+            1.0
+        };
         *radiance += throughput * f * s.emitted * (seen * weight / s.pdf);
         1
     }
