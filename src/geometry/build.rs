@@ -64,6 +64,8 @@ pub struct World {
     revolutions: Vec<Arc<RevolutionSurface>>,
     emitters: Emitters,
     origin: Vec3,
+    /// Whether any object is a medium.
+    media: bool,
 }
 
 impl World {
@@ -84,6 +86,7 @@ impl World {
             revolutions: Vec::new(),
             placed: Vec::new(),
             moved_meshes: HashMap::new(),
+            media: false,
         };
         let at = At {
             shift: -origin,
@@ -95,6 +98,7 @@ impl World {
             revolutions: b.revolutions,
             emitters: Emitters::finish(scene, &b.placed),
             origin,
+            media: b.media,
         })
     }
 
@@ -102,6 +106,12 @@ impl World {
     /// the scene point `p + origin`.
     pub fn origin(&self) -> Vec3 {
         self.origin
+    }
+
+    /// Whether any object is a medium: without, rays cross no medium
+    /// stretch, and the integrator leaves its free flights out.
+    pub fn has_media(&self) -> bool {
+        self.media
     }
 
     /// The emitters, numbered as the [`Hit::light`]s that name them.
@@ -209,6 +219,8 @@ struct Builder<'a> {
     prototypes: HashMap<ProtoId, (Instance, Vec<Placed>)>,
     in_progress: Vec<ProtoId>,
     revolutions: Vec<Arc<RevolutionSurface>>,
+    /// Whether a medium has been built.
+    media: bool,
     /// The emitters found so far, numbered in the space being built (the
     /// world's, or a prototype's while it is built).
     placed: Vec<Placed>,
@@ -420,6 +432,7 @@ impl Builder<'_> {
                 let inner =
                     self.instance(std::iter::once(&**boundary), &at.with(Emitting::Hidden))?;
                 let medium = Medium::new(self.unplaced(inner), *density, *material);
+                self.media = true;
                 items.push(self.placed(Geometry::Medium(medium), Placement::Identity));
             }
             Node::Instance(_) if moving => self.placed_by(at.moved(), node, at, prims, items)?,

@@ -119,6 +119,10 @@ pub struct Tracer<'a> {
     pub packets: Option<&'a PrimitiveSet>,
     /// The coat tables of the scene's plastics, built once here.
     pub coats: Coats,
+    /// Whether the world holds a medium ([`World::has_media`]): without,
+    /// paths take a copy of the bounce with no free flight and no
+    /// transmittance in it.
+    pub media: bool,
 }
 
 /// How the last scattering chose the current ray's direction.
@@ -185,6 +189,7 @@ impl<'a> Tracer<'a> {
             light_sampling: options.light_sampling,
             packets: world.packet_set(),
             coats: Coats::for_scene(scene),
+            media: world.has_media(),
         }
     }
 
@@ -294,6 +299,16 @@ impl<'a> Tracer<'a> {
     /// rays traced for it (shadow rays included), one ray after the other.
     #[inline]
     pub fn radiance(&self, ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
+        if self.media {
+            self.radiance_in::<true>(ray, sampler)
+        } else {
+            self.radiance_in::<false>(ray, sampler)
+        }
+    }
+
+    /// [`Tracer::radiance`] in a world with media (`MEDIA`) or without.
+    #[inline(always)]
+    fn radiance_in<const MEDIA: bool>(&self, ray: Ray, sampler: &mut Sampler) -> (Vec3, u32) {
         let mut path = Path::new(ray);
         let mut media = MediumSegments::default();
         for depth in 0..self.max_depth {
@@ -301,14 +316,15 @@ impl<'a> Tracer<'a> {
             let surface = self
                 .world
                 .intersect_in_media(&path.ray, 0.0, f32::INFINITY, &mut media);
-            if !self.bounce(&mut path, depth, surface, &mut media, sampler) {
+            if !self.bounce::<MEDIA>(&mut path, depth, surface, &mut media, sampler) {
                 break;
             }
         }
         (path.radiance, path.rays)
     }
 
-    /// [`Tracer::bounce`] for one path of a block, kept out of line: the
+    /// [`Tracer::bounce`] for one path of a block (a world of one set of
+    /// primitives, so without media), kept out of line: the
     /// one-ray path inlines its own, whose state then stays in registers
     /// (with one copy for both, out of line, the book-2 scene took 1.1 %
     /// more instructions: callgrind, 64² at 16 spp on one thread).
@@ -321,15 +337,15 @@ impl<'a> Tracer<'a> {
         media: &mut MediumSegments,
         sampler: &mut Sampler,
     ) -> bool {
-        self.bounce(path, depth, surface, media, sampler)
+        self.bounce::<false>(path, depth, surface, media, sampler)
     }
 
     /// Bounce `depth` of `path` once its ray's surface hit (`surface`) and
     /// the stretches of media it crosses (`media`) are known: emission,
     /// light sampling and the scattering. Returns whether the path goes on,
-    /// along its new ray.
+    /// along its new ray. Without `MEDIA` no free flight is sampled.
     #[inline(always)]
-    fn bounce(
+    fn bounce<const MEDIA: bool>(
         &self,
         path: &mut Path,
         depth: u32,
@@ -341,7 +357,11 @@ impl<'a> Tracer<'a> {
         let nee = self.light_sampling && !lights.is_empty();
         let ray = path.ray;
         let t_end = surface.map_or(f32::INFINITY, |h| h.t);
-        let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
+        let scattered = if MEDIA {
+            free_flight(&ray, t_end, media.as_slice(), sampler)
+        } else {
+            None
+        };
         let in_medium = scattered.is_some();
         let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
             path.radiance += path.throughput * self.escaped(path.previous, nee, ray.dir);
@@ -357,7 +377,7 @@ impl<'a> Tracer<'a> {
             path.radiance += path.throughput * emitted * weight;
         }
         if nee && bsdf.samples_lights() {
-            path.rays += self.direct(
+            path.rays += self.direct::<MEDIA>(
                 lights,
                 &hit,
                 bsdf.facing(),
@@ -418,10 +438,10 @@ impl<'a> Tracer<'a> {
     /// `normal`, zero in a medium): samples a light point, and if
     /// `scatter(wi)` gives the scattering value (BSDF × cosine) and its own
     /// sampling density, traces a shadow ray and adds the weighted light.
-    /// Returns the rays traced.
+    /// Returns the rays traced. Without `MEDIA` no transmittance is computed.
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    fn direct(
+    fn direct<const MEDIA: bool>(
         &self,
         lights: &LightList,
         hit: &Hit,
@@ -452,7 +472,11 @@ impl<'a> Tracer<'a> {
         } else {
             power_heuristic(s.pdf, scatter_pdf)
         };
-        let seen = transmittance(&shadow, SHADOW_END, media.as_slice());
+        let seen = if MEDIA {
+            transmittance(&shadow, SHADOW_END, media.as_slice())
+        } else {
+            1.0
+        };
         *radiance += throughput * f * s.emitted * (seen * weight / s.pdf);
         1
     }
