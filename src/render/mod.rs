@@ -15,6 +15,7 @@ pub mod job;
 pub mod lanes;
 pub mod light_tree;
 pub mod lights;
+pub mod maps;
 pub mod material;
 pub mod merge;
 pub mod options;

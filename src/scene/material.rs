@@ -1,6 +1,6 @@
 //! Materials as plain data; their scattering lives in `render`.
 
-use super::TextureId;
+use super::{MaterialId, TextureId};
 
 /// How a surface (or a medium) scatters and emits light.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -15,4 +15,26 @@ pub enum Material {
     Light { emit: TextureId, two_sided: bool },
     /// Isotropic phase function, the material of participating media.
     Isotropic { albedo: TextureId },
+    /// `base` with its shading normal read from a tangent-space normal map
+    /// (`map`, an image read as data: x, y, z = 2·rgb − 1 along ∂p/∂u, ∂p/∂v
+    /// and the normal), its tilt scaled by `strength` (≥ 0).
+    NormalMap {
+        base: MaterialId,
+        map: TextureId,
+        strength: f32,
+    },
+    /// `base` with its shading normal tilted by the slope of the height
+    /// field `scale` × `height` over the surface's (u, v).
+    Bump {
+        base: MaterialId,
+        height: TextureId,
+        scale: f32,
+    },
+}
+
+impl Material {
+    /// Whether the material reads a tangent frame at its hits.
+    pub fn needs_tangents(&self) -> bool {
+        matches!(self, Material::NormalMap { .. } | Material::Bump { .. })
+    }
 }

@@ -10,7 +10,7 @@ use crate::lang::source::Span;
 use crate::scene::mesh::MeshMaterialKind;
 use crate::scene::obj::ObjError;
 use crate::scene::obj_lines::LineError;
-use crate::scene::{ImageData, Material, MaterialId, MeshId, Texture, TextureId};
+use crate::scene::{Encoding, ImageData, Material, MaterialId, MeshId, Texture, TextureId};
 
 const IMAGE_TYPES: &[&str] = &["png", "jpg", "jpeg"];
 
@@ -46,21 +46,39 @@ impl Evaluator {
         ))
     }
 
-    /// The texture of the image file `path` (loaded once).
-    pub(super) fn image_texture(&mut self, path: &str, span: Span) -> Eval<TextureId> {
+    /// The texture of the image file `path` decoded by `encoding` (loaded
+    /// once).
+    pub(super) fn image_texture(
+        &mut self,
+        path: &str,
+        span: Span,
+        encoding: Encoding,
+    ) -> Eval<TextureId> {
         let full = self.resolve(path, span);
+        self.image_file(full, span, encoding)
+    }
+
+    /// [`Evaluator::image_texture`] of a resolved path.
+    pub(super) fn image_file(
+        &mut self,
+        full: PathBuf,
+        span: Span,
+        encoding: Encoding,
+    ) -> Eval<TextureId> {
         self.check_type(&full, span, IMAGE_TYPES, "image")?;
         if self.dry {
             return Ok(TextureId(0));
         }
-        if let Some(&id) = self.caches.images.get(&full) {
+        let key = (full, encoding);
+        if let Some(&id) = self.caches.images.get(&key) {
             return Ok(id);
         }
-        self.charge_image(&full, span)?;
-        match self.options.assets.image(&full) {
+        let full = &key.0;
+        self.charge_image(full, span)?;
+        match self.options.assets.image_as(full, encoding) {
             Ok(image) => {
-                let id = self.scene.add_texture(Texture::Image(image));
-                self.caches.images.insert(full, id);
+                let id = self.scene.add_texture(image_texture(image, encoding));
+                self.caches.images.insert(key, id);
                 Ok(id)
             }
             Err(e) => Err(self.report(
@@ -164,7 +182,7 @@ impl Evaluator {
             MeshMaterialKind::Diffuse { color, texture } => {
                 let albedo = match texture {
                     Some(file) => self
-                        .mesh_texture(&dir.join(file), span)
+                        .mesh_texture(&dir.join(file), span, Encoding::Srgb)
                         .unwrap_or_else(|| solid(self, *color)),
                     None => solid(self, *color),
                 };
@@ -185,15 +203,16 @@ impl Evaluator {
 
     /// An image named by an MTL file; a failure is a warning (the caller
     /// falls back to the plain colour).
-    fn mesh_texture(&mut self, full: &Path, span: Span) -> Option<TextureId> {
-        if let Some(&id) = self.caches.images.get(full) {
+    fn mesh_texture(&mut self, full: &Path, span: Span, encoding: Encoding) -> Option<TextureId> {
+        let key = (full.to_path_buf(), encoding);
+        if let Some(&id) = self.caches.images.get(&key) {
             return Some(id);
         }
         self.charge_image(full, span).ok()?;
-        match self.options.assets.image(full) {
+        match self.options.assets.image_as(full, encoding) {
             Ok(image) => {
-                let id = self.scene.add_texture(Texture::Image(image));
-                self.caches.images.insert(full.to_path_buf(), id);
+                let id = self.scene.add_texture(image_texture(image, encoding));
+                self.caches.images.insert(key, id);
                 Some(id)
             }
             Err(e) => {
@@ -211,5 +230,13 @@ impl Evaluator {
                 None
             }
         }
+    }
+}
+
+/// The texture of an image decoded by `encoding`.
+fn image_texture(image: std::sync::Arc<ImageData>, encoding: Encoding) -> Texture {
+    match encoding {
+        Encoding::Srgb => Texture::Image(image),
+        Encoding::Data => Texture::Data(image),
     }
 }
