@@ -126,7 +126,7 @@ impl Primitive {
     #[inline(never)]
     pub fn tangents(&self, h: &ShapeHit) -> Tangents {
         let t = match self {
-            Primitive::Sphere(Sphere { radius, .. }) => sphere(*radius, h.normal * radius.signum()),
+            Primitive::Sphere(Sphere { radius, .. }) => sphere(*radius, h.normal),
             Primitive::TurnedSphere(s) => turned_sphere(s, h),
             Primitive::Rect(r) => rect(r),
             Primitive::Quad(q) => quad(q),
