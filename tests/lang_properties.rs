@@ -38,7 +38,10 @@ fn base(block: &str) -> (String, Vec<(&'static str, &'static str)>) {
             "medium".into(),
             vec![("boundary", "sphere { }"), ("density", "0.1")],
         ),
-        "camera" => (block.into(), vec![]),
+        // Every property of a light block has a default.
+        "camera" | "sun" | "point_light" => (block.into(), vec![]),
+        // Off the origin, so that the example `to` is not its own position.
+        "spot_light" => (block.into(), vec![("at", "(1, 5, 0)")]),
         // `fps` is seen through the name `fps` (see `scene`).
         "render" => (block.into(), vec![]),
         other => panic!("no base scene for `{other}`: add one here"),

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
-use rtlang::gen::{self, critter, earth, porcelain, GenError};
+use rtlang::gen::{self, critter, earth, porcelain, sky, GenError};
 
 /// Arguments of `rtlang gen`.
 #[derive(Args)]
@@ -37,6 +37,28 @@ enum Asset {
     Porcelain(TextureArgs),
     /// Earth-like equirectangular planet map (stands in for earthmap.jpg).
     Earth(TextureArgs),
+    /// Clear sky (Preetham model) as a latitude–longitude OpenEXR for
+    /// `background environment(...)`; the sun's disk is left to a `sun` light.
+    Sky {
+        /// Output EXR file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Width in pixels.
+        #[arg(long, default_value_t = 1024)]
+        width: u32,
+        /// Height in pixels.
+        #[arg(long, default_value_t = 512)]
+        height: u32,
+        /// The sun's elevation above the horizon, degrees (0 to 90).
+        #[arg(long, default_value_t = 30.0)]
+        elevation: f64,
+        /// The sun's azimuth, degrees from −z towards +x.
+        #[arg(long, default_value_t = 0.0)]
+        azimuth: f64,
+        /// Haze, 2 (very clear) to 10.
+        #[arg(long, default_value_t = 3.0)]
+        turbidity: f64,
+    },
     /// Closed rabbit-like mesh with vertex normals (stands in for the Stanford bunny).
     Bunny {
         /// Output OBJ file.
@@ -85,6 +107,42 @@ fn generate(asset: Asset) -> Result<String, GenError> {
             });
             gen::write_png(&canvas, &t.output)?;
             Ok(format!("wrote {}", t.output.display()))
+        }
+        Asset::Sky {
+            output,
+            width,
+            height,
+            elevation,
+            azimuth,
+            turbidity,
+        } => {
+            gen::check_size(width, height)?;
+            let range = |what, value: f64, ok: bool| {
+                if ok {
+                    Ok(())
+                } else {
+                    Err(GenError::Sky { what, value })
+                }
+            };
+            range("elevation", elevation, (0.0..=90.0).contains(&elevation))?;
+            range("azimuth", azimuth, azimuth.is_finite())?;
+            range("turbidity", turbidity, (2.0..=10.0).contains(&turbidity))?;
+            let options = sky::SkyOptions {
+                width,
+                height,
+                elevation,
+                azimuth,
+                turbidity,
+            };
+            gen::write_exr(&sky::preetham(&options), width, height, &output)?;
+            let d = sky::sun_direction(&options);
+            Ok(format!(
+                "wrote {}; its sun is in direction ({:.4}, {:.4}, {:.4})",
+                output.display(),
+                d.x,
+                d.y,
+                d.z
+            ))
         }
         Asset::Bunny { output, cell } => {
             if !(0.05..=2.0).contains(&cell) {

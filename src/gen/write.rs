@@ -28,6 +28,12 @@ pub enum GenError {
         help("use a spacing between 0.05 (about 400k triangles) and 2 (a few hundred)")
     )]
     Cell { cell: f64 },
+    #[error("the {what} {value} is out of range")]
+    #[diagnostic(
+        code(rtlang::gen::sky),
+        help("the sun's elevation is 0 to 90 degrees, its azimuth finite, the turbidity 2 to 10")
+    )]
+    Sky { what: &'static str, value: f64 },
 }
 
 /// Checks a texture size requested on the command line.
@@ -61,6 +67,31 @@ pub fn write_png(canvas: &Canvas, path: &Path) -> Result<(), GenError> {
         path: path.to_path_buf(),
         message,
     })?;
+    write_atomically(path, &bytes)
+}
+
+/// Writes linear RGB `pixels` (row by row from the top) to `path` as an
+/// OpenEXR image of 32-bit floats.
+pub fn write_exr(
+    pixels: &[glam::Vec3],
+    width: u32,
+    height: u32,
+    path: &Path,
+) -> Result<(), GenError> {
+    let fail = |message: String| GenError::Write {
+        path: path.to_path_buf(),
+        message,
+    };
+    let flat: Vec<f32> = pixels.iter().flat_map(|p| p.to_array()).collect();
+    let image = image::Rgb32FImage::from_raw(width, height, flat)
+        .ok_or_else(|| fail("the pixels do not fill the image".into()))?;
+    let mut bytes = Vec::new();
+    image::DynamicImage::ImageRgb32F(image)
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::OpenExr,
+        )
+        .map_err(|e| fail(e.to_string()))?;
     write_atomically(path, &bytes)
 }
 

@@ -366,6 +366,8 @@ impl Builder<'_> {
                 self.placed_by(at.moved(), node, at, prims, items)?
             }
             Node::Shape { shape, material } => self.shape(shape, *material, at, prims, items)?,
+            // Nothing to intersect: the renderer places lamps itself.
+            Node::Lamp(_) => {}
             Node::Mesh { mesh, materials } => {
                 let data = self.mesh(*mesh, at.shift)?;
                 if materials.is_empty() {

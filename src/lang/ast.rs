@@ -165,6 +165,9 @@ pub enum ObjectKind {
     Triangle,
     Medium,
     Group,
+    Sun,
+    PointLight,
+    SpotLight,
     Rect(RectPlane),
     /// `mesh PATH`
     Mesh(Expr),

@@ -23,6 +23,7 @@ type Entries<T> = Mutex<HashMap<PathBuf, (Option<SystemTime>, T)>>;
 pub struct AssetCache {
     images: Entries<Arc<ImageData>>,
     data_images: Entries<Arc<ImageData>>,
+    hdr_images: Entries<Arc<ImageData>>,
     meshes: Entries<LoadedMesh>,
 }
 
@@ -74,6 +75,14 @@ impl AssetCache {
         };
         cached(entries, path, || {
             ImageData::load_as(path, encoding).map(Arc::new)
+        })
+    }
+
+    /// The high-dynamic-range image at `path`, loaded once per
+    /// modification.
+    pub fn hdr_image(&self, path: &Path) -> Result<Arc<ImageData>, ImageLoadError> {
+        cached(&self.hdr_images, path, || {
+            ImageData::load_hdr(path).map(Arc::new)
         })
     }
 

@@ -327,6 +327,9 @@ impl Printer<'_> {
             ObjectKind::Triangle => self.out.push_str("triangle"),
             ObjectKind::Medium => self.out.push_str("medium"),
             ObjectKind::Group => self.out.push_str("group"),
+            ObjectKind::Sun => self.out.push_str("sun"),
+            ObjectKind::PointLight => self.out.push_str("point_light"),
+            ObjectKind::SpotLight => self.out.push_str("spot_light"),
             ObjectKind::Rect(plane) => self.out.push_str(match plane {
                 RectPlane::Xy => "rect xy",
                 RectPlane::Xz => "rect xz",

@@ -123,11 +123,30 @@ block! { MEDIUM = "medium" in medium {
     COLOR = prop("color", "colour", "the colour the fog scatters", "rgb(0.2, 0.4, 0.6)");
 }}
 
+block! { SUN = "sun" in sun {
+    DIRECTION = prop("direction", "non-zero vector", "towards the sun (default +y)", "(1, 2, 1)");
+    COLOR = prop("color", "colour", "the irradiance of a surface facing the sun, W/m² (default 1)", "rgb(3, 3, 3)");
+    DIAMETER = prop("diameter", "degrees, 0 to 90", "the sun's angular diameter; 0 (default) is one direction, sharp shadows", "0.53");
+}}
+
+block! { POINT_LIGHT = "point_light" in point_light {
+    AT = prop("at", "vector", "the position (default the origin)", "(0, 5, 0)");
+    INTENSITY = prop("intensity", "colour", "the intensity, W/sr (default 1)", "rgb(10, 10, 10)");
+}}
+
+block! { SPOT_LIGHT = "spot_light" in spot_light {
+    AT = prop("at", "vector", "the position (default the origin)", "(0, 5, 0)");
+    TO = prop("to", "vector", "a point on the axis, not `at` (default below `at`)", "(0, 0, 0)");
+    INTENSITY = prop("intensity", "colour", "the intensity on the axis, W/sr (default 1)", "rgb(10, 10, 10)");
+    ANGLE = prop("angle", "degrees, above 0 up to 180", "the cone's half angle, where the light ends (default 30)", "40");
+    FALLOFF = prop("falloff", "degrees, 0 up to `angle`", "the half angle of full light, fading linearly to `angle` (default ¾ of `angle`)", "25");
+}}
+
 block! { RENDER = "render" in render {
     SAMPLES = prop("samples", "whole number", "samples per pixel", "7");
     DEPTH = prop("depth", "whole number", "the most bounces of a path", "3");
     SEED = prop("seed", "whole number", "the seed of the random numbers", "42");
-    BACKGROUND = prop("background", "colour or texture", "what rays that hit nothing see", "rgb(0.3, 0.2, 0.1)");
+    BACKGROUND = prop("background", "colour, gradient or environment", "what rays that hit nothing see", "rgb(0.3, 0.2, 0.1)");
     FPS = prop("fps", "number > 0", "frames per second of an animation", "12");
 }}
 
@@ -142,5 +161,17 @@ block! { CAMERA = "camera" in camera {
 
 /// Every block with properties.
 pub const TABLE: &[&Props] = &[
-    &SPHERE, &PLANE, &RECT, &BOX, &TRIANGLE, &MESH, &REVOLVE, &MEDIUM, &RENDER, &CAMERA,
+    &SPHERE,
+    &PLANE,
+    &RECT,
+    &BOX,
+    &TRIANGLE,
+    &MESH,
+    &REVOLVE,
+    &MEDIUM,
+    &SUN,
+    &POINT_LIGHT,
+    &SPOT_LIGHT,
+    &RENDER,
+    &CAMERA,
 ];

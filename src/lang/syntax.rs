@@ -437,7 +437,19 @@ fn missing_comma(text: &str, file: u32, at: usize) -> Option<Diagnostic> {
 
 /// Object keywords, for "did you mean" where a statement starts.
 const OBJECTS: &[&str] = &[
-    "sphere", "plane", "rect", "box", "triangle", "mesh", "revolve", "medium", "group", "repeat",
+    "sphere",
+    "plane",
+    "rect",
+    "box",
+    "triangle",
+    "mesh",
+    "revolve",
+    "medium",
+    "group",
+    "repeat",
+    "sun",
+    "point_light",
+    "spot_light",
 ];
 
 /// A specific message for the common mistakes at a syntax error at `at`:
@@ -1056,6 +1068,9 @@ impl Lower {
                 "box" => ObjectKind::Box,
                 "triangle" => ObjectKind::Triangle,
                 "medium" => ObjectKind::Medium,
+                "sun" => ObjectKind::Sun,
+                "point_light" => ObjectKind::PointLight,
+                "spot_light" => ObjectKind::SpotLight,
                 _ => ObjectKind::Group,
             },
             Rule::rect_object => {

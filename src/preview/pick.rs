@@ -204,6 +204,7 @@ impl Tagger<'_> {
             },
             Node::Flip(child) => Node::Flip(again(child, shared)),
             Node::Instance(proto) => Node::Instance(self.copy(*proto, tag, shared)),
+            Node::Lamp(lamp) => Node::Lamp(*lamp),
         }
     }
 
@@ -267,9 +268,11 @@ impl Walk<'_> {
             }
             // Own surfaces carry the object's tag; under a motion,
             // prototypes are the object's own copies.
-            Node::Shape { .. } | Node::Mesh { .. } | Node::Medium { .. } | Node::Motion { .. } => {
-                false
-            }
+            Node::Shape { .. }
+            | Node::Mesh { .. }
+            | Node::Medium { .. }
+            | Node::Motion { .. }
+            | Node::Lamp(_) => false,
         }
     }
 
@@ -310,9 +313,11 @@ impl Walk<'_> {
             Node::Instance(id) => *id == self.proto || self.reaches(*id),
             Node::Transform { child, .. } | Node::Flip(child) => self.places(child),
             Node::Group(children) => children.iter().any(|c| self.places(c)),
-            Node::Shape { .. } | Node::Mesh { .. } | Node::Medium { .. } | Node::Motion { .. } => {
-                false
-            }
+            Node::Shape { .. }
+            | Node::Mesh { .. }
+            | Node::Medium { .. }
+            | Node::Motion { .. }
+            | Node::Lamp(_) => false,
         }
     }
 }

@@ -20,7 +20,7 @@ use crate::render::film::Film;
 use crate::render::job::{Events, RenderJob};
 use crate::render::{probe, RenderOptions};
 use crate::scene::digest::Fnv;
-use crate::scene::{Node, Scene, Shape};
+use crate::scene::{Lamp, Node, Scene, Shape};
 
 /// Images with more pixels than this first show a quick 1-spp pass at
 /// 1/[`COARSE_DIVISOR`] of the width and height: 1/16 of the samples of
@@ -487,6 +487,12 @@ fn kind(node: &Node) -> String {
         Node::Group(_) => "group".into(),
         Node::Medium { .. } => "medium".into(),
         Node::Instance(_) => "placed object".into(),
+        Node::Lamp(lamp) => match lamp {
+            Lamp::Point { .. } => "point light",
+            Lamp::Spot { .. } => "spot light",
+            Lamp::Sun { .. } => "sun",
+        }
+        .into(),
         Node::Transform { child, .. } | Node::Motion { child, .. } | Node::Flip(child) => {
             kind(child)
         }

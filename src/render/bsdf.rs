@@ -1,6 +1,7 @@
 //! The scattering at one hit: a closed `Bsdf` (lambertian, fuzzy metal,
-//! mirror, dielectric, the isotropic phase function of media, and emitters
-//! that only emit), built once per hit with its texture already looked up
+//! mirror, dielectric, the microfacet lobes of [`super::rough`], the
+//! isotropic phase function of media, and emitters that only emit), built
+//! once per hit with its texture already looked up
 //! ([`super::material::bsdf`]). The integrator samples it, evaluates it for
 //! light samples and asks its density, without knowing which one it is.
 //!
@@ -12,12 +13,14 @@ use std::f32::consts::{FRAC_1_PI, PI};
 use glam::{Vec2, Vec3};
 
 use super::fuzz;
+use super::microfacet::Frame;
+use super::rough;
 use crate::sampling::warp::{cosine_hemisphere, uniform_sphere};
 use crate::sampling::Sampler;
 
 /// How a hit scatters light, with its colour and frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Bsdf {
+pub enum Bsdf<'a> {
     /// Ideal diffuse reflection about the shading `normal`; nothing leaves
     /// below the geometric surface.
     Lambertian {
@@ -43,6 +46,17 @@ pub enum Bsdf {
     /// Refraction or reflection by exact Fresnel (specular); `eta` is the
     /// ratio of the index of refraction the ray leaves to the one it enters.
     Dielectric { eta: f32, normal: Vec3 },
+    /// A microfacet lobe (rough conductor, rough glass, plastic or glTF's
+    /// metallic–roughness BRDF) about the shading `normal`, its
+    /// anisotropic roughness along the tangent of [`Frame::around_y`].
+    /// Reflected light never leaves below the geometric surface nor
+    /// refracted light above it; rough glass's `normal` faces the viewer,
+    /// its `eta` the index behind over the index in front.
+    Rough {
+        lobe: rough::Lobe<'a>,
+        normal: Vec3,
+        geo_normal: Vec3,
+    },
     /// The isotropic phase function of a medium.
     Isotropic { albedo: Vec3 },
     /// A light: emits `emitted` towards the path and scatters nothing.
@@ -61,7 +75,7 @@ pub struct BsdfSample {
     pub specular: bool,
 }
 
-impl Bsdf {
+impl Bsdf<'_> {
     /// Light the surface emits towards the path.
     #[inline]
     pub fn emitted(&self) -> Vec3 {
@@ -94,7 +108,9 @@ impl Bsdf {
             | Bsdf::FuzzyMetal { normal, .. }
             | Bsdf::Mirror { normal, .. }
             | Bsdf::Dielectric { normal, .. } => normal,
-            Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => Vec3::ZERO,
+            // Rough glass gathers light from both sides.
+            Bsdf::Rough { lobe, normal, .. } if !lobe.transmits() => normal,
+            Bsdf::Rough { .. } | Bsdf::Isotropic { .. } | Bsdf::Emitter { .. } => Vec3::ZERO,
         }
     }
 
@@ -151,6 +167,11 @@ impl Bsdf {
             Bsdf::Dielectric { eta, normal } => {
                 specular(dielectric(-wo, normal, eta, u1), Vec3::ONE)
             }
+            Bsdf::Rough {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_sample(normal, geo_normal, wo, |wo| lobe.sample(wo, u2, u1)),
             Bsdf::Isotropic { albedo } => scattered(uniform_sphere(u2), albedo, 1.0 / (4.0 * PI)),
             Bsdf::Emitter { .. } => None,
         }
@@ -163,6 +184,7 @@ impl Bsdf {
         let (two, one) = match self {
             Bsdf::Lambertian { .. } | Bsdf::Isotropic { .. } => (true, false),
             Bsdf::FuzzyMetal { .. } => (true, true),
+            Bsdf::Rough { lobe, .. } => (true, lobe.chooses()),
             Bsdf::Dielectric { .. } => (false, true),
             Bsdf::Mirror { .. } | Bsdf::Emitter { .. } => (false, false),
         };
@@ -199,6 +221,11 @@ impl Bsdf {
                 let pdf = fuzz::pdf(reflect(-wo, normal), fuzz, wi);
                 (pdf > 0.0).then_some((albedo * pdf, pdf))
             }
+            Bsdf::Rough {
+                lobe,
+                normal,
+                geo_normal,
+            } => local_eval(normal, geo_normal, wo, wi, |wo, wi| lobe.eval_pdf(wo, wi)),
             Bsdf::Isotropic { albedo } => Some((albedo / (4.0 * PI), 1.0 / (4.0 * PI))),
             Bsdf::Mirror { .. } | Bsdf::Dielectric { .. } | Bsdf::Emitter { .. } => None,
         }
@@ -214,6 +241,51 @@ impl Bsdf {
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         self.eval_pdf(wo, wi).map_or(0.0, |(_, p)| p)
     }
+}
+
+/// Whether `wo` and `wi` lie on the sides of the geometric surface
+/// (normal `geo`, facing `wo`'s side) their local cosines put them on, so
+/// that a lobe never leaks light through the surface: reflection stays
+/// above it, transmission below.
+#[inline]
+fn consistent(geo: Vec3, wo: Vec3, wi: Vec3, local_wi: Vec3) -> bool {
+    wo.dot(geo) > 0.0 && (wi.dot(geo) > 0.0) == (local_wi.z > 0.0)
+}
+
+/// A microfacet lobe's sample, drawn in the local frame of `normal`.
+#[inline]
+fn local_sample(
+    normal: Vec3,
+    geo: Vec3,
+    wo: Vec3,
+    sample: impl FnOnce(Vec3) -> Option<rough::Sampled>,
+) -> Option<BsdfSample> {
+    let frame = Frame::around_y(normal);
+    let (local, weight, pdf) = sample(frame.to_local(wo))?;
+    let wi = frame.to_world(local);
+    consistent(geo, wo, wi, local).then_some(BsdfSample {
+        wi,
+        weight,
+        pdf,
+        specular: false,
+    })
+}
+
+/// A microfacet lobe's f·cos and density, in the local frame of `normal`.
+#[inline]
+fn local_eval(
+    normal: Vec3,
+    geo: Vec3,
+    wo: Vec3,
+    wi: Vec3,
+    eval: impl FnOnce(Vec3, Vec3) -> Option<(Vec3, f32)>,
+) -> Option<(Vec3, f32)> {
+    let frame = Frame::around_y(normal);
+    let local = frame.to_local(wi);
+    if !consistent(geo, wo, wi, local) {
+        return None;
+    }
+    eval(frame.to_local(wo), local)
 }
 
 /// `d` mirrored about the plane of unit normal `n`.
@@ -262,7 +334,7 @@ mod tests {
     }
 
     /// Every scattering BSDF under test, with the direction it is seen from.
-    fn scattering() -> Vec<(Bsdf, Vec3)> {
+    fn scattering() -> Vec<(Bsdf<'static>, Vec3)> {
         let albedo = Vec3::new(0.9, 0.5, 0.2);
         let mut out = Vec::new();
         for elevation in [70.0, 25.0] {

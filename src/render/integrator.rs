@@ -22,6 +22,7 @@ use glam::Vec3;
 
 use super::bsdf::BsdfSample;
 use super::camera::CameraRays;
+use super::coat::Coats;
 use super::lights::LightList;
 use super::maps;
 use super::material;
@@ -117,6 +118,8 @@ pub struct Tracer<'a> {
     /// The world's set of primitives when its rays walk it in packets
     /// ([`World::packet_set`], asked once here, not per sample).
     pub packets: Option<&'a PrimitiveSet>,
+    /// The coat tables of the scene's plastics, built once here.
+    pub coats: Coats,
 }
 
 /// How the last scattering chose the current ray's direction.
@@ -182,6 +185,7 @@ impl<'a> Tracer<'a> {
             max_depth: options.max_depth,
             light_sampling: options.light_sampling,
             packets: world.packet_set(),
+            coats: Coats::for_scene(scene),
         }
     }
 
@@ -341,12 +345,12 @@ impl<'a> Tracer<'a> {
         let scattered = free_flight(&ray, t_end, media.as_slice(), sampler);
         let in_medium = scattered.is_some();
         let Some(hit) = scattered.map(|(t, m)| medium_point(&ray, t, m)).or(surface) else {
-            path.radiance += path.throughput * background(&self.scene.settings.background, ray.dir);
+            path.radiance += path.throughput * self.escaped(path.previous, nee, ray.dir);
             return false;
         };
         sampler.begin(Dim::Bsdf);
         let wo = -ray.dir;
-        let bsdf = material::bsdf(self.scene, &hit, wo, self.world.origin());
+        let bsdf = material::bsdf(self.scene, &self.coats, &hit, wo, self.world.origin());
         let mut sample = bsdf.sample_from(wo, sampler);
         if hit.material.needs_tangents() {
             sample = sample.filter(|s| maps::keeps_side(&hit, bsdf.facing(), s.wi));
@@ -402,6 +406,18 @@ impl<'a> Tracer<'a> {
         true
     }
 
+    /// The radiance a path finds leaving the scene along `dir`: the
+    /// background, unless the scene has lights that are not shapes, which
+    /// the light list looks up and weighs.
+    #[inline(always)]
+    fn escaped(&self, previous: Previous, nee: bool, dir: Vec3) -> Vec3 {
+        let bg = &self.scene.settings.background;
+        if self.lights.has_lamps() {
+            return self.lights.escaped(bg, previous, nee, dir);
+        }
+        background(bg, dir)
+    }
+
     /// Next-event estimation at `hit` (whose normal for choosing a light is
     /// `normal`, zero in a medium): samples a light point, and if
     /// `scatter(wi)` gives the scattering value (BSDF × cosine) and its own
@@ -435,7 +451,11 @@ impl<'a> Tracer<'a> {
         if self.world.occluded(&shadow, 0.0, SHADOW_END, media) {
             return 1;
         }
-        let weight = power_heuristic(s.pdf, scatter_pdf);
+        let weight = if s.delta {
+            1.0
+        } else {
+            power_heuristic(s.pdf, scatter_pdf)
+        };
         let seen = transmittance(&shadow, SHADOW_END, media.as_slice());
         *radiance += throughput * f * s.emitted * (seen * weight / s.pdf);
         1
@@ -505,11 +525,14 @@ fn transmittance(ray: &Ray, t_end: f32, segments: &[MediumSegment]) -> f32 {
     (-depth).exp()
 }
 
-/// The colour seen along a ray that leaves the scene.
+/// The colour seen along a ray that leaves the scene, for a solid or
+/// gradient background (an environment is a light: the light list looks it
+/// up, [`LightList::escaped`], and here it is black).
 #[inline]
 pub fn background(bg: &Background, dir: Vec3) -> Vec3 {
     match *bg {
         Background::Solid(c) => c,
+        Background::Environment(_) => Vec3::ZERO,
         Background::Gradient { bottom, top } => {
             let t = 0.5 * (dir.normalize_or_zero().y + 1.0);
             bottom.lerp(top, t)

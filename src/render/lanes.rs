@@ -89,6 +89,9 @@ impl<'a> Lanes<'a> {
             })
             .collect::<Option<Vec<_>>>()?;
         let lights = tracer.lights;
+        if lights.has_lamps() {
+            return None;
+        }
         let light = if tracer.light_sampling && !lights.is_empty() {
             let (l, inv_area) = lights.single_parallelogram()?;
             Some(flat_light(l, inv_area))

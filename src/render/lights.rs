@@ -16,6 +16,8 @@ use std::f32::consts::TAU;
 
 use glam::{DVec3, Vec2, Vec3};
 
+use super::integrator::{self, power_heuristic, Previous};
+use super::lamps::{self, LampLight};
 use super::light_tree::{LightBounds, LightTree};
 
 pub use crate::geometry::emitter::LightShape;
@@ -24,7 +26,7 @@ use crate::geometry::ray::{gamma, SurfacePoint};
 use crate::geometry::World;
 use crate::sampling::warp::{sin_cos_turn, uniform_sphere};
 use crate::sampling::Sampler;
-use crate::scene::{Material, MaterialId, Scene, Texture};
+use crate::scene::{Background, Material, MaterialId, Scene, Texture};
 
 impl Light {
     /// The tree's bounds of this light emitting `power`.
@@ -151,6 +153,10 @@ pub struct LightSample {
     /// The light point with its error bound and its normal, the far end of
     /// the shadow ray ([`crate::geometry::ray::spawn_to`]).
     pub target: SurfacePoint,
+    /// Whether the light is a delta light (point, spot, sun without a
+    /// disk), which no scattered ray finds: its sample needs no MIS weight
+    /// and `pdf` is the choice's probability alone.
+    pub delta: bool,
 }
 
 /// How next-event estimation chooses among the lights.
@@ -198,15 +204,46 @@ pub struct LightList {
     /// Per emitter of the world (by [`LightId`]): its index in `lights`,
     /// if sampled.
     of_emitter: Vec<Option<u32>>,
-    /// The hierarchy over `lights`, for tree selection.
+    /// The hierarchy over `lights` and the point and spot lights among
+    /// `lamps`, for tree selection.
     tree: LightTree,
     selection: LightSelection,
+    /// The lights that are not shapes (point and spot lights first, then
+    /// the distant ones), numbered after `lights` in the cumulative power.
+    lamps: Vec<LampLight>,
+    /// The choice's probability of each lamp by power.
+    lamp_shares: Vec<f64>,
+    /// The number of point and spot lights (the tree's leaves among lamps).
+    lamp_leaves: usize,
+    /// By the tree, the probability of choosing one of the distant lights
+    /// (uniformly among them) rather than descending the tree: pbrt-v4's
+    /// rule, the number of distant lights over that number plus one for
+    /// the tree, whatever their power (a power bound of a light at
+    /// infinity seen from a point means nothing). 0 without distant lights.
+    distant_share: f64,
+    /// The number of lights sampled: `lights` and, with light sampling,
+    /// `lamps` (without, lamps are kept for the rays that find them).
+    count: usize,
+    /// The world's bounding sphere: distant lights' shadow rays end past it.
+    reach: (Vec3, f32),
 }
 
 impl LightList {
     /// The lights of `scene` among the world's `emitters`, to be chosen by
     /// `selection`.
     pub fn build(scene: &Scene, emitters: &Emitters, selection: LightSelection) -> LightList {
+        LightList::build_with(scene, emitters, Vec::new(), (Vec3::ZERO, 0.0), selection)
+    }
+
+    /// [`LightList::build`] with the `lamps` beside the emitters, in a world
+    /// whose bounding sphere is `reach`.
+    fn build_with(
+        scene: &Scene,
+        emitters: &Emitters,
+        lamps: Vec<LampLight>,
+        reach: (Vec3, f32),
+        selection: LightSelection,
+    ) -> LightList {
         let weight: Vec<Option<(f32, Vec3, bool)>> = scene
             .materials
             .iter()
@@ -241,7 +278,8 @@ impl LightList {
             .iter()
             .map(|l| f64::from(luminance(l.emit)) * l.shape.area())
             .collect();
-        for p in &powers {
+        let lamp_powers: Vec<f64> = lamps.iter().map(|l| l.power(f64::from(reach.1))).collect();
+        for p in powers.iter().chain(&lamp_powers) {
             total += p;
             cdf.push(total);
         }
@@ -254,19 +292,38 @@ impl LightList {
                 power_share: p / total,
             })
             .collect();
-        let bounds: Vec<LightBounds> = lights
+        let mut bounds: Vec<LightBounds> = lights
             .iter()
             .zip(&powers)
             .map(|(l, p)| l.bounds(*p))
             .collect();
+        bounds.extend(
+            lamps
+                .iter()
+                .zip(&lamp_powers)
+                .filter_map(|(l, p)| l.bounds(*p)),
+        );
+        let lamp_leaves = bounds.len() - lights.len();
+        let distant = lamps.len() - lamp_leaves;
+        let distant_share = if distant == 0 {
+            0.0
+        } else {
+            distant as f64 / (distant + usize::from(!bounds.is_empty())) as f64
+        };
         LightList {
             tree: LightTree::build(&bounds),
+            count: lights.len() + lamps.len(),
             lights,
             prepared,
             cdf,
             total,
             of_emitter,
             selection,
+            lamp_shares: lamp_powers.iter().map(|p| p / total).collect(),
+            lamps,
+            lamp_leaves,
+            distant_share,
+            reach,
         }
     }
 
@@ -278,10 +335,26 @@ impl LightList {
         light_sampling: bool,
         selection: LightSelection,
     ) -> LightList {
+        let lamps = lamps::prepare(scene, world.origin(), light_sampling);
         if light_sampling {
-            LightList::build(scene, world.emitters(), selection)
+            let bounds = world.bounds();
+            let reach = if bounds.is_empty() {
+                (Vec3::ZERO, 0.0)
+            } else {
+                let half = (0.5 * bounds.extent().length()).min(1e18);
+                (
+                    bounds
+                        .centroid()
+                        .clamp(Vec3::splat(-1e18), Vec3::splat(1e18)),
+                    half,
+                )
+            };
+            LightList::build_with(scene, world.emitters(), lamps, reach, selection)
         } else {
-            LightList::default()
+            LightList {
+                lamps,
+                ..LightList::default()
+            }
         }
     }
 
@@ -290,8 +363,15 @@ impl LightList {
         &self.lights
     }
 
+    /// Whether no light is sampled.
     pub fn is_empty(&self) -> bool {
-        self.lights.is_empty()
+        self.count == 0
+    }
+
+    /// Whether the scene has lights that are not shapes (lamps or an
+    /// environment), sampled or not.
+    pub fn has_lamps(&self) -> bool {
+        !self.lamps.is_empty()
     }
 
     /// The index in [`LightList::lights`] of the emitter `id`, if sampled.
@@ -306,6 +386,9 @@ impl LightList {
     /// nothing towards `p`.
     #[inline]
     pub fn sample(&self, p: Vec3, n: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
+        if !self.lamps.is_empty() {
+            return self.sample_with_lamps(p, n, sampler);
+        }
         let last = self.prepared.len().checked_sub(1)?;
         let (i, select) = if last == 0 {
             // One light needs no choice: its number is passed over, so every
@@ -325,6 +408,75 @@ impl LightList {
                 }
             }
         };
+        self.sample_shape(i, select, p, sampler)
+    }
+
+    /// Chooses among every light, lamps included, with the uniform `u`:
+    /// the light's number (shapes first, then lamps) and the probability.
+    fn choose(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f64)> {
+        let last = self.count.checked_sub(1)?;
+        if last == 0 {
+            return Some((0, 1.0));
+        }
+        match self.selection {
+            LightSelection::Power => {
+                let x = f64::from(u) * self.total;
+                let i = self.cdf.partition_point(|&c| c <= x).min(last);
+                Some((i, self.share(i)))
+            }
+            LightSelection::Tree => {
+                let u = f64::from(u);
+                let d = self.distant_share;
+                if u < d {
+                    let distant = self.lamps.len() - self.lamp_leaves;
+                    let k = ((u / d * distant as f64) as usize).min(distant - 1);
+                    return Some((self.count - distant + k, self.distant_probability()));
+                }
+                let u = ((u - d) / (1.0 - d)).min(1.0 - f64::EPSILON);
+                let (i, prob) = self.tree.sample(p.as_dvec3(), n.as_dvec3(), u)?;
+                Some((i, prob * (1.0 - d)))
+            }
+        }
+    }
+
+    /// By the tree, the probability of choosing one given distant light.
+    fn distant_probability(&self) -> f64 {
+        self.distant_share / (self.lamps.len() - self.lamp_leaves) as f64
+    }
+
+    /// The probability by power of light number `i`.
+    fn share(&self, i: usize) -> f64 {
+        match self.prepared.get(i) {
+            Some(l) => l.power_share,
+            None => self.lamp_shares[i - self.prepared.len()],
+        }
+    }
+
+    /// [`LightList::sample`] in a list with lamps.
+    fn sample_with_lamps(&self, p: Vec3, n: Vec3, sampler: &mut Sampler) -> Option<LightSample> {
+        let u = sampler.next_1d();
+        let (i, select) = self.choose(p, n, u)?;
+        if i < self.prepared.len() {
+            return self.sample_shape(i, select, p, sampler);
+        }
+        let lamp = &self.lamps[i - self.prepared.len()];
+        let (centre, radius) = self.reach;
+        let far = (p - centre).length() + 2.0 * radius + 1.0;
+        let mut s = lamp.sample(p, sampler.next_2d(), far)?;
+        s.pdf *= select as f32;
+        Some(s)
+    }
+
+    /// A point of shape light `i`, chosen with probability `select`, seen
+    /// from `p`.
+    #[inline(always)]
+    fn sample_shape(
+        &self,
+        i: usize,
+        select: f64,
+        p: Vec3,
+        sampler: &mut Sampler,
+    ) -> Option<LightSample> {
         let Prepared {
             light, inv_area, ..
         } = &self.prepared[i];
@@ -384,6 +536,7 @@ impl LightList {
                 error,
                 normal: n,
             },
+            delta: false,
         })
     }
 
@@ -391,7 +544,9 @@ impl LightList {
     /// and that one is a parallelogram: the light paths in lanes sample.
     pub fn single_parallelogram(&self) -> Option<(&Light, f64)> {
         match self.prepared.as_slice() {
-            [p] if matches!(p.light.shape, LightShape::Parallelogram { .. }) => {
+            [p] if self.lamps.is_empty()
+                && matches!(p.light.shape, LightShape::Parallelogram { .. }) =>
+            {
                 Some((&p.light, p.inv_area))
             }
             _ => None,
@@ -401,10 +556,51 @@ impl LightList {
     /// The probability of choosing light `i` from `p` (normal `n`).
     fn select(&self, i: usize, p: Vec3, n: Vec3) -> f64 {
         match self.selection {
-            _ if self.prepared.len() == 1 => 1.0,
+            _ if self.count == 1 => 1.0,
             LightSelection::Power => self.prepared.get(i).map_or(0.0, |l| l.power_share),
-            LightSelection::Tree => self.tree.probability(i, p.as_dvec3(), n.as_dvec3()),
+            LightSelection::Tree => {
+                self.tree.probability(i, p.as_dvec3(), n.as_dvec3()) * (1.0 - self.distant_share)
+            }
         }
+    }
+
+    /// The radiance a path finds leaving the scene along `dir` after the
+    /// scattering `previous`: the background, or the environment and the
+    /// suns seen as disks, each weighted by MIS against the density with
+    /// which light sampling (`nee`) would have chosen `dir`.
+    pub(super) fn escaped(
+        &self,
+        background: &Background,
+        previous: Previous,
+        nee: bool,
+        dir: Vec3,
+    ) -> Vec3 {
+        let dir = dir.normalize_or_zero();
+        let mut sum = integrator::background(background, dir);
+        // Point and spot lights come first and no ray finds them.
+        let distant = &self.lamps[self.lamp_leaves..];
+        for (k, lamp) in (self.lamp_leaves..).zip(distant) {
+            let l = lamp.radiance(dir);
+            if l == Vec3::ZERO {
+                continue;
+            }
+            let weight = match previous {
+                Previous::Scattered { pdf, .. } if nee => {
+                    let select = if self.count == 1 {
+                        1.0
+                    } else {
+                        match self.selection {
+                            LightSelection::Power => self.lamp_shares[k],
+                            LightSelection::Tree => self.distant_probability(),
+                        }
+                    };
+                    power_heuristic(pdf, select as f32 * lamp.pdf(dir))
+                }
+                _ => 1.0,
+            };
+            sum += l * weight;
+        }
+        sum
     }
 
     /// The solid-angle density with which [`LightList::sample`] from `p`
@@ -426,7 +622,7 @@ impl LightList {
 }
 
 /// Relative luminance of linear RGB.
-fn luminance(c: Vec3) -> f32 {
+pub(super) fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 

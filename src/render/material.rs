@@ -1,24 +1,29 @@
 //! A scene material at a hit becomes its [`Bsdf`]: the one place a hit's
 //! texture is looked up, and where a metal with (almost) no fuzz becomes a
-//! specular mirror and a dielectric's index ratio is chosen by the side hit.
-//! A normal or bump map wrapper gives its material the mapped shading
-//! normal ([`super::maps`]).
+//! specular mirror, a dielectric's index ratio is chosen by the side hit and
+//! the microfacet materials get their lobes ([`super::rough`]). A normal or
+//! bump map wrapper gives its material the mapped shading normal
+//! ([`super::maps`]).
 
 use glam::Vec3;
 
 use super::bsdf::Bsdf;
+use super::coat::Coats;
 use super::fuzz::SPECULAR_FUZZ;
 use super::maps;
+use super::microfacet::conductor_of_reflectance;
+use super::rough::{self, Lobe};
 use super::texture::lookup;
 use crate::geometry::Hit;
-use crate::scene::{Material, Scene};
+use crate::scene::material::ConductorFresnel;
+use crate::scene::{Material, MaterialId, Scene};
 
 /// The scattering of `hit`'s material at `hit`, seen from `wo`, a hit of a
 /// world whose frame has its origin at the scene point `frame`: textures
 /// are looked up at the hit's scene point, so they do not move with the
-/// frame.
+/// frame. A plastic reads its coat's tables from `coats`.
 #[inline]
-pub fn bsdf(scene: &Scene, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf {
+pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf<'a> {
     match *scene.material(hit.material) {
         Material::NormalMap {
             base,
@@ -27,7 +32,7 @@ pub fn bsdf(scene: &Scene, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf {
         } => {
             let p = hit.point + frame;
             let normal = maps::normal_mapped(scene, hit, wo, p, map, strength);
-            surface(scene, scene.material(base), hit, normal, frame)
+            surface(scene, coats, base, hit, normal, frame)
         }
         Material::Bump {
             base,
@@ -36,18 +41,31 @@ pub fn bsdf(scene: &Scene, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf {
         } => {
             let p = hit.point + frame;
             let normal = maps::bumped(scene, hit, wo, p, height, scale);
-            surface(scene, scene.material(base), hit, normal, frame)
+            surface(scene, coats, base, hit, normal, frame)
         }
-        ref m => surface(scene, m, hit, hit.normal, frame),
+        _ => surface(scene, coats, hit.material, hit, hit.normal, frame),
     }
 }
 
-/// The scattering of `material` at `hit` with shading normal `normal`.
+/// The scattering of the material `id` at `hit` with shading normal
+/// `normal`.
 #[inline(always)]
-fn surface(scene: &Scene, material: &Material, hit: &Hit, normal: Vec3, frame: Vec3) -> Bsdf {
+fn surface<'a>(
+    scene: &Scene,
+    coats: &'a Coats,
+    id: MaterialId,
+    hit: &Hit,
+    normal: Vec3,
+    frame: Vec3,
+) -> Bsdf<'a> {
     let albedo = |id| lookup(scene, id, hit.uv, hit.point + frame);
     let geo_normal = hit.geo_normal;
-    match *material {
+    let rough = |lobe| Bsdf::Rough {
+        lobe,
+        normal,
+        geo_normal,
+    };
+    match *scene.material(id) {
         Material::Lambertian { albedo: tex } => Bsdf::Lambertian {
             albedo: albedo(tex),
             normal,
@@ -78,10 +96,51 @@ fn surface(scene: &Scene, material: &Material, hit: &Hit, normal: Vec3, frame: V
         Material::Isotropic { albedo: tex } => Bsdf::Isotropic {
             albedo: albedo(tex),
         },
+        Material::Conductor { fresnel, alpha } => {
+            let (eta, k) = match fresnel {
+                ConductorFresnel::Ior { eta, k } => (eta, k),
+                ConductorFresnel::Reflectance(tex) => conductor_of_reflectance(albedo(tex)),
+            };
+            rough(Lobe::Conductor(rough::Conductor { eta, k, alpha }))
+        }
+        Material::RoughDielectric { ior, alpha } => rough(Lobe::Dielectric(rough::Dielectric {
+            eta: if hit.front_face { ior } else { 1.0 / ior },
+            alpha,
+        })),
+        Material::Plastic {
+            albedo: tex,
+            ior,
+            alpha,
+        } => rough(Lobe::Plastic(rough::Plastic {
+            albedo: albedo(tex),
+            eta: ior,
+            alpha,
+            coat: coats.of(id),
+        })),
+        Material::MetalRough {
+            base,
+            metallic,
+            roughness,
+            metallic_roughness,
+        } => {
+            // glTF: roughness in green, metallic in blue.
+            let (r, m) = match metallic_roughness {
+                Some(tex) => {
+                    let t = albedo(tex);
+                    (roughness * t.y, metallic * t.z)
+                }
+                None => (roughness, metallic),
+            };
+            rough(Lobe::MetalRough(rough::MetalRough {
+                base: albedo(base),
+                metallic: m.clamp(0.0, 1.0),
+                alpha: r * r,
+            }))
+        }
         // The language refuses a map of a map; were one built in code,
         // its inner map is left out.
         Material::NormalMap { base, .. } | Material::Bump { base, .. } => {
-            inner(scene, scene.material(base), hit, normal, frame)
+            inner(scene, coats, base, hit, normal, frame)
         }
     }
 }
@@ -89,6 +148,13 @@ fn surface(scene: &Scene, material: &Material, hit: &Hit, normal: Vec3, frame: V
 /// [`surface`] of a map's material, out of line so that `surface` is
 /// inlined where it is called.
 #[inline(never)]
-fn inner(scene: &Scene, material: &Material, hit: &Hit, normal: Vec3, frame: Vec3) -> Bsdf {
-    surface(scene, material, hit, normal, frame)
+fn inner<'a>(
+    scene: &Scene,
+    coats: &'a Coats,
+    id: MaterialId,
+    hit: &Hit,
+    normal: Vec3,
+    frame: Vec3,
+) -> Bsdf<'a> {
+    surface(scene, coats, id, hit, normal, frame)
 }

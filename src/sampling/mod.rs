@@ -2,6 +2,7 @@
 //! leaf module (it imports nothing from the crate) used by the renderer, the
 //! scene generators and the tests. Geometry needs none of it.
 
+pub mod distribution;
 pub mod rng;
 pub mod sampler;
 pub mod sobol;

@@ -136,6 +136,7 @@ impl Walk {
                 }
             }
             Node::Flip(child) => self.node(scene, child, object, m, !flipped, depth + 1),
+            Node::Lamp(_) => {}
         }
     }
 

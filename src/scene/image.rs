@@ -37,6 +37,13 @@ pub enum ImageLoadError {
     Decode { path: String, message: String },
     #[error("image `{path}` is empty (0 pixels)")]
     Empty { path: String },
+    #[error("image `{path}` has the value {value} at pixel ({x}, {y}): radiance must be finite and at least 0")]
+    BadPixel {
+        path: String,
+        x: u32,
+        y: u32,
+        value: f32,
+    },
 }
 
 /// Converts one sRGB-encoded channel in [0, 1] to linear.
@@ -80,33 +87,8 @@ impl ImageData {
     /// Loads an image file as [`ImageData::load`] does, its values decoded
     /// by `encoding`.
     pub fn load_as(path: &Path, encoding: Encoding) -> Result<ImageData, ImageLoadError> {
-        let shown = path.display().to_string();
-        let io = |source: ReadError| ImageLoadError::Io {
-            path: shown.clone(),
-            source,
-        };
-        let decode = |message: String| ImageLoadError::Decode {
-            path: shown.clone(),
-            message,
-        };
-        let mut opened = file::open(path).map_err(io)?;
-        let (width, height) =
-            header_size(BufReader::new(&mut opened)).map_err(|e| decode(e.to_string()))?;
-        opened.rewind().map_err(|e| io(e.into()))?;
-        let pixels = u64::from(width) * u64::from(height);
-        let limit = pixels
-            .saturating_mul(FILE_BYTES_PER_PIXEL)
-            .saturating_add(FILE_ALLOWANCE);
-        let bytes = file::read_bounded(opened, limit).map_err(io)?;
-        let mut reader = ImageReader::new(Cursor::new(&bytes))
-            .with_guessed_format()
-            .map_err(|e| decode(e.to_string()))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(width);
-        limits.max_image_height = Some(height);
-        reader.limits(limits);
-        let decoded = reader.decode().map_err(|e| decode(e.to_string()))?;
-        let rgb = decoded.to_rgb8();
+        let (rgb, shown) = decode(path)?;
+        let rgb = rgb.to_rgb8();
         if rgb.width() == 0 || rgb.height() == 0 {
             return Err(ImageLoadError::Empty { path: shown });
         }
@@ -129,6 +111,66 @@ impl ImageData {
             pixels,
         }
     }
+
+    /// Loads a high-dynamic-range image (OpenEXR or Radiance HDR) as the
+    /// linear values it holds, which must be finite and non-negative (the
+    /// first pixel that is not is reported).
+    pub fn load_hdr(path: &Path) -> Result<ImageData, ImageLoadError> {
+        let (decoded, shown) = decode(path)?;
+        let rgb = decoded.to_rgb32f();
+        if rgb.width() == 0 || rgb.height() == 0 {
+            return Err(ImageLoadError::Empty { path: shown });
+        }
+        let width = rgb.width();
+        let mut pixels = Vec::with_capacity(rgb.len() / 3);
+        for (k, p) in rgb.pixels().enumerate() {
+            if let Some(&value) = p.0.iter().find(|c| !(c.is_finite() && **c >= 0.0)) {
+                return Err(ImageLoadError::BadPixel {
+                    path: shown,
+                    x: k as u32 % width,
+                    y: k as u32 / width,
+                    value,
+                });
+            }
+            pixels.push(Vec3::from(p.0));
+        }
+        Ok(ImageData {
+            width,
+            height: rgb.height(),
+            pixels,
+        })
+    }
+}
+
+/// The image at `path` decoded, and the path as shown in errors.
+fn decode(path: &Path) -> Result<(image::DynamicImage, String), ImageLoadError> {
+    let shown = path.display().to_string();
+    let io = |source: ReadError| ImageLoadError::Io {
+        path: shown.clone(),
+        source,
+    };
+    let decode = |message: String| ImageLoadError::Decode {
+        path: shown.clone(),
+        message,
+    };
+    let mut opened = file::open(path).map_err(io)?;
+    let (width, height) =
+        header_size(BufReader::new(&mut opened)).map_err(|e| decode(e.to_string()))?;
+    opened.rewind().map_err(|e| io(e.into()))?;
+    let pixels = u64::from(width) * u64::from(height);
+    let limit = pixels
+        .saturating_mul(FILE_BYTES_PER_PIXEL)
+        .saturating_add(FILE_ALLOWANCE);
+    let bytes = file::read_bounded(opened, limit).map_err(io)?;
+    let mut reader = ImageReader::new(Cursor::new(&bytes))
+        .with_guessed_format()
+        .map_err(|e| decode(e.to_string()))?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(width);
+    limits.max_image_height = Some(height);
+    reader.limits(limits);
+    let decoded = reader.decode().map_err(|e| decode(e.to_string()))?;
+    Ok((decoded, shown))
 }
 
 /// How an image file's 8-bit values become numbers.

@@ -12,6 +12,7 @@ pub mod digest;
 pub mod facing;
 pub mod file;
 pub mod image;
+pub mod light;
 pub mod material;
 pub mod mesh;
 pub mod motion;
@@ -27,11 +28,12 @@ use std::sync::Arc;
 pub use camera::Camera;
 pub use curve::Bezier;
 pub use image::{Encoding, ImageData};
+pub use light::Lamp;
 pub use material::Material;
 pub use mesh::MeshData;
 pub use motion::Motion;
 pub use object::{Node, Shape};
-pub use settings::{Background, Settings};
+pub use settings::{Background, Environment, Settings};
 pub use texture::Texture;
 
 /// Index of a texture in [`Scene::textures`].

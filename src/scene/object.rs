@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::{Bezier, MaterialId, MeshId, Motion, ProtoId};
+use super::{Bezier, Lamp, MaterialId, MeshId, Motion, ProtoId};
 
 /// The largest coordinate magnitude a triangle or mesh vertex may have:
 /// intersecting a triangle multiplies two coordinates (an area) in f32,
@@ -100,4 +100,6 @@ pub enum Node {
     /// The child with its front and back faces swapped (pbrt's
     /// ReverseOrientation): a one-sided light in it emits the other way.
     Flip(Box<Node>),
+    /// A light that is not a shape: nothing to intersect.
+    Lamp(Lamp),
 }

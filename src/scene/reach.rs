@@ -9,7 +9,7 @@ use glam::{DMat3, DVec3, Mat4};
 
 use super::motion::{MotionStep, Program};
 use super::object::{Node, RectPlane, Shape};
-use super::Scene;
+use super::{Lamp, Scene};
 
 /// How far objects of one scene reach: each mesh's reach is found once
 /// (a scene may place one large mesh many times), each prototype's once it
@@ -60,6 +60,7 @@ impl<'a> Reach<'a> {
             Node::Medium { boundary, .. } => self.of(boundary),
             Node::Instance(id) => self.prototype(id.0 as usize),
             Node::Flip(child) => self.of(child),
+            Node::Lamp(lamp) => lamp_reach(lamp),
         };
         if r.is_nan() {
             f64::INFINITY
@@ -78,6 +79,16 @@ impl<'a> Reach<'a> {
             *slot = Some(r);
         }
         r
+    }
+}
+
+/// The reach of a lamp in its own space: its position (a spot's target
+/// too); a sun is at no place.
+fn lamp_reach(lamp: &Lamp) -> f64 {
+    match *lamp {
+        Lamp::Point { at, .. } => at.as_dvec3().length(),
+        Lamp::Spot { at, to, .. } => at.as_dvec3().length().max(to.as_dvec3().length()),
+        Lamp::Sun { .. } => 0.0,
     }
 }
 

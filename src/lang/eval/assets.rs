@@ -3,6 +3,7 @@
 
 use crate::lang::codes::Code;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::{budget, Eval, Evaluator};
 use crate::lang::diagnostics::Diagnostic;
@@ -13,6 +14,7 @@ use crate::scene::obj_lines::LineError;
 use crate::scene::{Encoding, ImageData, Material, MaterialId, MeshId, Texture, TextureId};
 
 const IMAGE_TYPES: &[&str] = &["png", "jpg", "jpeg"];
+const HDR_TYPES: &[&str] = &["exr", "hdr"];
 
 impl Evaluator {
     /// Resolves `path` against the directory of the file `span` is in.
@@ -85,6 +87,57 @@ impl Evaluator {
                 Diagnostic::error(Code::Io, span, e.to_string())
                     .label("image used here")
                     .help("relative paths resolve against the directory of the scene file"),
+            )),
+        }
+    }
+
+    /// The high-dynamic-range image `path` of an environment (loaded once).
+    pub(super) fn environment_image(&mut self, path: &str, span: Span) -> Eval<Arc<ImageData>> {
+        let full = self.resolve(path, span);
+        let ext = full
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        if IMAGE_TYPES.contains(&ext.as_str()) {
+            return Err(self.report(
+                Diagnostic::error(
+                    Code::FileType,
+                    span,
+                    format!("`{}` holds 8-bit colours, not radiance", full.display()),
+                )
+                .label("not a high-dynamic-range image")
+                .help(
+                    "an environment needs an .exr or .hdr file; convert it with e.g. \
+                     `oiiotool in.png --colorconvert sRGB linear -o out.exr`, or make a \
+                     sky with `rtlang gen sky`",
+                ),
+            ));
+        }
+        self.check_type(&full, span, HDR_TYPES, "environment image")?;
+        if self.dry {
+            return Ok(Arc::new(ImageData {
+                width: 1,
+                height: 1,
+                pixels: vec![glam::Vec3::ZERO],
+            }));
+        }
+        if let Some(image) = self.caches.environments.get(&full) {
+            return Ok(image.clone());
+        }
+        self.charge_image(&full, span)?;
+        match self.options.assets.hdr_image(&full) {
+            Ok(image) => {
+                self.caches.environments.insert(full, image.clone());
+                Ok(image)
+            }
+            Err(e) => Err(self.report(
+                Diagnostic::error(Code::Io, span, e.to_string())
+                    .label("environment image used here")
+                    .help(
+                        "relative paths resolve against the directory of the scene file; \
+                         the pixels must be finite radiance of at least 0",
+                    ),
             )),
         }
     }

@@ -101,7 +101,11 @@ pub fn node_bytes(node: &Node, scene: &Scene) -> f64 {
             let light = if emits { BYTES_PER_LIGHT } else { 0.0 };
             triangles as f64 * (BYTES_PER_TRIANGLE + light)
         }
-        Node::Group(_) | Node::Transform { .. } | Node::Motion { .. } | Node::Flip(_) => 0.0,
+        Node::Group(_)
+        | Node::Transform { .. }
+        | Node::Motion { .. }
+        | Node::Flip(_)
+        | Node::Lamp(_) => 0.0,
     }
 }
 
@@ -113,7 +117,7 @@ pub fn tree_bytes(node: &Node, scene: &Scene) -> f64 {
             vec![child.as_ref()]
         }
         Node::Medium { boundary, .. } => vec![boundary.as_ref()],
-        Node::Shape { .. } | Node::Mesh { .. } | Node::Instance(_) => Vec::new(),
+        Node::Shape { .. } | Node::Mesh { .. } | Node::Instance(_) | Node::Lamp(_) => Vec::new(),
     };
     node_bytes(node, scene)
         + children

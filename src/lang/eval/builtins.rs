@@ -19,7 +19,7 @@ use crate::lang::names;
 use crate::lang::pretty;
 use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
-use crate::scene::{Encoding, Material, Texture};
+use crate::scene::{Encoding, Environment, Material, Texture};
 
 /// Whether `name` is a built-in function.
 pub fn is_function(name: &str) -> bool {
@@ -230,6 +230,31 @@ impl Evaluator {
         Ok(Value::Gradient(bottom?, top?))
     }
 
+    pub(crate) fn environment_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
+        let (v, s) = a.positional[0].clone();
+        let path = self.string(&v, s);
+        let (rotate, rs) = self.keyword_num(a, "rotate", 0.0)?;
+        self.range(
+            rotate.is_finite(),
+            rs,
+            format!("the rotation must be a finite angle, not {rotate}"),
+            "the rotation is in degrees about +y, e.g. `rotate: 90`",
+        )?;
+        let (strength, ss) = self.keyword_num(a, "strength", 1.0)?;
+        self.range(
+            strength.is_finite() && strength >= 0.0,
+            ss,
+            format!("the strength must be at least 0 and finite, not {strength}"),
+            "the strength scales the image's radiance, e.g. `strength: 1.5`",
+        )?;
+        let image = self.environment_image(&path?, s)?;
+        Ok(Value::Environment(Rc::new(Environment {
+            image,
+            rotate: rotate as f32,
+            strength: strength as f32,
+        })))
+    }
+
     fn keyword_bool(&mut self, a: &mut Args, name: &str, default: bool) -> Eval<bool> {
         match a.keyword(name) {
             Some((v, s)) => self.boolean(&v, s),
@@ -407,7 +432,160 @@ impl Evaluator {
             "the index of refraction",
             "glass is about 1.5, water 1.33, air 1",
         )?;
-        Ok(self.new_material(Material::Dielectric { ior: ior as f32 }))
+        let alpha = self.roughness(a, "roughness", 0.0)?;
+        Ok(self.new_material(if alpha > 0.0 {
+            Material::RoughDielectric {
+                ior: ior as f32,
+                alpha,
+            }
+        } else {
+            Material::Dielectric { ior: ior as f32 }
+        }))
+    }
+
+    /// A GGX roughness keyword: finite and at least 0.
+    fn roughness(&mut self, a: &mut Args, name: &str, default: f64) -> Eval<f32> {
+        let (r, rs) = self.keyword_num(a, name, default)?;
+        if r.is_finite() && r >= 0.0 {
+            return Ok(r as f32);
+        }
+        Err(self.report(
+            Diagnostic::error(
+                Code::Range,
+                rs,
+                format!("{name} must be a finite number of at least 0, not {r}"),
+            )
+            .label("out of range")
+            .help("roughness is the GGX α: 0 is smooth, 0.1 glossy, 1 very rough"),
+        ))
+    }
+
+    /// A number keyword in [0, 1].
+    fn unit_keyword(&mut self, a: &mut Args, name: &str, default: f64, help: &str) -> Eval<f32> {
+        let (x, xs) = self.keyword_num(a, name, default)?;
+        if (0.0..=1.0).contains(&x) {
+            return Ok(x as f32);
+        }
+        Err(self.report(
+            Diagnostic::error(
+                Code::Range,
+                xs,
+                format!("{name} must be in [0, 1], not {x}"),
+            )
+            .label("out of range")
+            .help(help.to_string()),
+        ))
+    }
+
+    pub(crate) fn conductor_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let alpha = self.roughness(a, "roughness", 0.1);
+        let (alpha_u, alpha_v) = match alpha {
+            Ok(r) => (
+                self.roughness(a, "roughness_u", r as f64),
+                self.roughness(a, "roughness_v", r as f64),
+            ),
+            Err(e) => (Err(e), Err(e)),
+        };
+        let eta = a.keyword("eta");
+        let k = a.keyword("k");
+        let fresnel = match (a.positional.first().cloned(), eta, k) {
+            (Some((Value::Str(name), s)), None, None) => self.conductor_preset(&name, s),
+            (Some((v, s)), None, None) => self
+                .texture(&v, s)
+                .map(crate::scene::material::ConductorFresnel::Reflectance),
+            (None, Some((e, es)), Some((k, ks))) => {
+                let eta = self.color(&e, es);
+                let k = self.color(&k, ks);
+                let eta = eta?;
+                match self.positive(
+                    eta.min_element(),
+                    es,
+                    "each channel of eta",
+                    "metals have η between about 0.1 and 3",
+                ) {
+                    Ok(_) => Ok(crate::scene::material::ConductorFresnel::Ior {
+                        eta: eta.as_vec3(),
+                        k: k?.as_vec3(),
+                    }),
+                    Err(e) => Err(e),
+                }
+            }
+            (_, eta, k) => {
+                let at = eta.or(k).map_or(span, |(_, s)| s);
+                Err(self.report(
+                    Diagnostic::error(
+                        Code::Range,
+                        at,
+                        "a conductor takes either a name or colour, or both `eta` and `k`",
+                    )
+                    .label("ambiguous conductor")
+                    .help("write conductor(\"Au\"), conductor(rgb(0.9, 0.6, 0.3)) or conductor(eta: rgb(..), k: rgb(..))"),
+                ))
+            }
+        };
+        Ok(self.new_material(Material::Conductor {
+            fresnel: fresnel?,
+            alpha: glam::Vec2::new(alpha_u?, alpha_v?),
+        }))
+    }
+
+    /// The complex index of the named conductor.
+    fn conductor_preset(
+        &mut self,
+        name: &str,
+        span: Span,
+    ) -> Eval<crate::scene::material::ConductorFresnel> {
+        let presets = crate::scene::material::CONDUCTORS;
+        if let Some(&(_, eta, k)) = presets.iter().find(|(n, _, _)| *n == name) {
+            return Ok(crate::scene::material::ConductorFresnel::Ior { eta, k });
+        }
+        let names: Vec<&str> = presets.iter().map(|(n, _, _)| *n).collect();
+        let help = match names::suggest(name, names.iter().copied()) {
+            Some(s) => format!("did you mean \"{s}\"? known metals: {}", names.join(", ")),
+            None => format!("known metals: {}", names.join(", ")),
+        };
+        Err(self.report(
+            Diagnostic::error(Code::Range, span, format!("no conductor named \"{name}\""))
+                .label("unknown metal")
+                .help(help),
+        ))
+    }
+
+    pub(crate) fn plastic_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let albedo = self.first_texture(a, span);
+        let (ior, is) = self.keyword_num(a, "ior", 1.5)?;
+        let ior = self.positive(
+            ior,
+            is,
+            "the index of refraction",
+            "varnish and plastics are about 1.5",
+        );
+        let alpha = self.roughness(a, "roughness", 0.1);
+        Ok(self.new_material(Material::Plastic {
+            albedo: albedo?,
+            ior: ior? as f32,
+            alpha: alpha?,
+        }))
+    }
+
+    pub(crate) fn pbr_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {
+        let base = self.first_texture(a, span);
+        let metallic = self.unit_keyword(a, "metallic", 0.0, "0 is a dielectric, 1 a metal");
+        let roughness = self.unit_keyword(
+            a,
+            "roughness",
+            0.5,
+            "glTF's perceptual roughness: 0 is smooth, 1 fully rough (α = roughness²)",
+        );
+        let map = a
+            .keyword("metallic_roughness")
+            .map(|(v, s)| self.texture(&v, s));
+        Ok(self.new_material(Material::MetalRough {
+            base: base?,
+            metallic: metallic?,
+            roughness: roughness?,
+            metallic_roughness: map.transpose()?,
+        }))
     }
 
     pub(crate) fn light_call(&mut self, a: &mut Args, span: Span) -> Eval<Value> {

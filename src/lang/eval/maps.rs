@@ -85,7 +85,7 @@ impl Evaluator {
     /// The keyword `name` (default 1): a finite number ≥ 0.
     fn map_factor(&mut self, a: &mut Args, name: &str, what: &str) -> Eval<f32> {
         let (x, s) = self.keyword_num(a, name, 1.0)?;
-        if x >= 0.0 && x <= 1e6 {
+        if (0.0..=1e6).contains(&x) {
             return Ok(x as f32);
         }
         Err(self.report(

@@ -21,6 +21,7 @@ mod facing;
 mod files;
 mod functions;
 mod issue;
+mod lamps;
 mod limits;
 mod maps;
 mod math;
@@ -41,7 +42,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use crate::scene::motion::MotionStep;
-use crate::scene::{MaterialId, MeshId, ProtoId, Scene, TextureId};
+use crate::scene::{ImageData, MaterialId, MeshId, ProtoId, Scene, TextureId};
 
 use super::ast::{Expr, Ident, Item, Stmt};
 use super::cache::AssetCache;
@@ -219,6 +220,7 @@ pub(crate) struct Evaluator {
 #[derive(Clone, Default)]
 struct Caches {
     images: HashMap<(PathBuf, crate::scene::Encoding), TextureId>,
+    environments: HashMap<PathBuf, Arc<ImageData>>,
     meshes: HashMap<PathBuf, (MeshId, Vec<MaterialId>)>,
     protos: HashMap<usize, ProtoId>,
 }
@@ -299,6 +301,7 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
     }
     let failed = ev.diagnostics.iter().any(Diagnostic::is_error);
     let mut assets: Vec<PathBuf> = (ev.caches.images.keys().map(|(path, _)| path))
+        .chain(ev.caches.environments.keys())
         .chain(ev.caches.meshes.keys())
         .cloned()
         .collect();

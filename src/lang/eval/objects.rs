@@ -13,6 +13,7 @@ use crate::lang::ast::{Object, ObjectKind, RectPlane, Stmt};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::properties::{self, cuboid, medium, mesh, plane, rect, revolve, sphere, triangle};
 use crate::lang::source::Span;
+use crate::scene::light::holds_lamp;
 use crate::scene::object::{RectPlane as Plane, RevolutionMode};
 use crate::scene::{MaterialId, Node, Shape};
 
@@ -101,6 +102,18 @@ impl Evaluator {
                 let b = self.block(&o.body, &Allow::props(&properties::MEDIUM, true));
                 (self.medium(&b, o), b)
             }
+            ObjectKind::Sun => {
+                let b = self.block(&o.body, &Allow::props(&properties::SUN, true));
+                (self.sun(&b), b)
+            }
+            ObjectKind::PointLight => {
+                let b = self.block(&o.body, &Allow::props(&properties::POINT_LIGHT, true));
+                (self.point_light(&b), b)
+            }
+            ObjectKind::SpotLight => {
+                let b = self.block(&o.body, &Allow::props(&properties::SPOT_LIGHT, true));
+                (self.spot_light(&b, o), b)
+            }
             ObjectKind::Group => {
                 let b = self.block(&o.body, &holder("group"));
                 (self.children(&b.children).map(Node::Group), b)
@@ -111,7 +124,19 @@ impl Evaluator {
             self.charge_node(n, o.head)?;
         }
         let transformed = self.apply_transforms(&block.transforms);
-        Ok(transformed?.wrap(flipped(node?, block.flip)))
+        let node = transformed?.wrap(flipped(node?, block.flip));
+        if matches!(node, Node::Motion { .. }) && holds_lamp(&self.scene, &node) {
+            return Err(self.report(
+                Diagnostic::error(
+                    Code::Range,
+                    o.head,
+                    "a light that is not a shape cannot move",
+                )
+                .label("this moves a sun, point or spot light")
+                .help("place the light outside the `motion`, or use a moving emissive shape"),
+            ));
+        }
+        Ok(node)
     }
 
     /// `if COND { ... } else { ... }`: the objects of the branch taken (the
@@ -471,6 +496,19 @@ impl Evaluator {
             Err(f) => Err(f),
         };
         self.in_boundary -= 1;
+        if let Ok(node) = &boundary {
+            if holds_lamp(&self.scene, node) {
+                return Err(self.report(
+                    Diagnostic::error(
+                        Code::Range,
+                        o.head,
+                        "a medium's boundary cannot hold a light that is not a shape",
+                    )
+                    .label("a sun, point or spot light in the boundary")
+                    .help("place the light beside the medium"),
+                ));
+            }
+        }
         let density = self.prop_num(b, &medium::DENSITY, 1.0).and_then(|(d, s)| {
             self.range(
                 d > 0.0,

@@ -120,6 +120,7 @@ impl Evaluator {
                     bottom: bottom.as_vec3(),
                     top: top.as_vec3(),
                 }),
+                Value::Environment(env) => Ok(Background::Environment((*env).clone())),
                 other => self
                     .color(&other, s)
                     .map(|c| Background::Solid(c.as_vec3())),

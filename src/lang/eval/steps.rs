@@ -228,7 +228,7 @@ fn node_count(node: &Node) -> u64 {
             node_count(child)
         }
         Node::Medium { boundary, .. } => node_count(boundary),
-        Node::Shape { .. } | Node::Mesh { .. } | Node::Instance(_) => 0,
+        Node::Shape { .. } | Node::Mesh { .. } | Node::Instance(_) | Node::Lamp(_) => 0,
     }
 }
 

@@ -5,7 +5,7 @@ use std::rc::Rc;
 
 use glam::{DVec2, DVec3};
 
-use crate::scene::{Bezier, MaterialId, Node, TextureId};
+use crate::scene::{Bezier, Environment, MaterialId, Node, TextureId};
 
 use super::issue::Issue;
 
@@ -24,6 +24,8 @@ pub enum Value {
     Curve(Rc<Bezier>),
     /// `gradient(bottom, top)`, only meaningful as a background.
     Gradient(DVec3, DVec3),
+    /// `environment(...)`, only meaningful as a background.
+    Environment(Rc<Environment>),
     Object(Rc<Node>),
 }
 
@@ -41,6 +43,7 @@ impl Value {
             Value::Material(_) => "a material",
             Value::Curve(_) => "a curve",
             Value::Gradient(..) => "a gradient",
+            Value::Environment(_) => "an environment",
             Value::Object(_) => "an object",
         }
     }
