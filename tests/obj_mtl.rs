@@ -5,7 +5,9 @@
 //! √(2 / (Ns + 2)), `illum 1` no coat; `map_d` and `map_Ks` images are
 //! ignored with a warning, and a missing map file warns and leaves the
 //! surface unmapped. A square under the fixture's ramp bump map, lit by a
-//! sun, has the radiance its tilted normal gives analytically.
+//! sun, has the radiance its tilted normal gives analytically. The MTL
+//! Blender 5 writes (`tests/fixtures/blender/scene.mtl`) maps as the table
+//! says.
 
 mod support;
 
@@ -13,7 +15,8 @@ use std::path::Path;
 
 use glam::Vec3;
 use rtlang::lang::{self, Options};
-use rtlang::scene::obj::roughness_from_shininess;
+use rtlang::scene::mesh::{MeshMap, MeshMaterialKind};
+use rtlang::scene::obj::{load_obj, roughness_from_shininess};
 use rtlang::scene::{Material, MaterialId, Node, Scene, Texture, TextureId};
 use support::render::as_set as run;
 
@@ -167,5 +170,48 @@ fn a_bump_map_from_the_mtl_tilts_the_lit_square() {
                 );
             }
         }
+    }
+}
+
+/// Blender's exporter writes its roughness r as Ns = 1000 (1 − r)² (the
+/// floor's r = 0.9 as `Ns 10`), `Ks 0.5` for its default specular, `illum 3`
+/// for a metallic material and its normal-map image as `map_Bump -bm
+/// strength`: the floor becomes a coat of α = √(2 / 12), Suzanne a metal
+/// whose `map_Bump` is read as a height field scaled by 0.8 (the MTL
+/// meaning; docs/maps.md says why), and `map_Ns` is ignored silently.
+#[test]
+fn blender_s_mtl_maps_as_the_table_says() {
+    let loaded = load_obj(Path::new("tests/fixtures/blender/scene.obj")).expect("loads");
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let materials = &loaded.mesh.materials;
+    let floor = materials.iter().find(|m| m.name == "Floor").unwrap();
+    match floor.kind {
+        MeshMaterialKind::Plastic {
+            color,
+            ref texture,
+            ior,
+            alpha,
+        } => {
+            assert_eq!(color, Vec3::new(0.5, 0.55, 0.6));
+            assert_eq!((texture, ior), (&None, 1.5));
+            assert!((alpha - (2.0f32 / 12.0).sqrt()).abs() < 1e-6, "{alpha}");
+        }
+        ref k => panic!("floor: {k:?}"),
+    }
+    assert_eq!(floor.map, None);
+    let suzanne = materials.iter().find(|m| m.name == "Suzanne").unwrap();
+    assert_eq!(
+        suzanne.kind,
+        MeshMaterialKind::Metal {
+            color: Vec3::splat(0.5),
+            fuzz: 1.0
+        }
+    );
+    match &suzanne.map {
+        Some(MeshMap::Bump { file, scale }) => {
+            assert!(file.ends_with("normal.png"), "{}", file.display());
+            assert_eq!(*scale, 0.8);
+        }
+        m => panic!("suzanne's map: {m:?}"),
     }
 }

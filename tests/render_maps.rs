@@ -1,13 +1,16 @@
 //! Normal and bump maps in whole renders: a map never lets light through
 //! the surface (a plane of extreme mapped normals lit from above is black
-//! from below), never makes a NaN, and never adds energy (a white furnace
-//! of mapped spheres stays at most the background).
+//! from below, and one seen from above stays black under a sun below its
+//! horizon that its mapped normals face), never makes a NaN, and never
+//! adds energy (a white furnace of mapped spheres stays at most the
+//! background).
 
 mod support;
 
 use std::sync::Arc;
 
 use glam::Vec3;
+use rtlang::scene::light::Lamp;
 use rtlang::scene::object::RectPlane;
 use rtlang::scene::{
     Background, Camera, ImageData, Material, MaterialId, Node, Scene, Shape, Texture,
@@ -47,6 +50,19 @@ fn mapped(scene: &mut Scene, albedo: Vec3, strength: f32) -> MaterialId {
     })
 }
 
+/// The 4 × 4 square at y = 0 facing +y, of material `m`.
+fn floor(m: MaterialId) -> Node {
+    Node::Shape {
+        shape: Shape::Rect {
+            plane: RectPlane::Xz,
+            a: (-2.0, 2.0),
+            b: (-2.0, 2.0),
+            k: 0.0,
+        },
+        material: m,
+    }
+}
+
 fn settings(scene: &mut Scene, w: u32, h: u32, spp: u32) {
     scene.settings.width = w;
     scene.settings.height = h;
@@ -67,15 +83,7 @@ fn a_normal_mapped_plane_lets_no_light_through() {
             two_sided: false,
         });
         s.objects = vec![
-            Node::Shape {
-                shape: Shape::Rect {
-                    plane: RectPlane::Xz,
-                    a: (-2.0, 2.0),
-                    b: (-2.0, 2.0),
-                    k: 0.0,
-                },
-                material: m,
-            },
+            floor(m),
             Node::Shape {
                 shape: Shape::Sphere {
                     center: Vec3::new(0.3, 1.0, 0.2),
@@ -106,6 +114,51 @@ fn a_normal_mapped_plane_lets_no_light_through() {
             .filter(|p| p.max_element() > 0.0)
             .count();
         assert!(lit > above.pixels.len() / 2, "{lit} lit pixels from above");
+    }
+}
+
+/// A plane whose normal map tilts every normal 45° towards +x, seen from
+/// above, under a sun 10° below its horizon towards +x (which the mapped
+/// normals face, at cos 0.58) and nothing else: the sun's light must not
+/// reach the top through the plane, so every pixel is black; with the sun
+/// 10° above the horizon the plane is lit.
+#[test]
+fn a_sun_below_the_horizon_does_not_light_a_mapped_plane() {
+    for (below, lit) in [(true, false), (false, true)] {
+        let mut s = Scene::default();
+        let tex = s.add_texture(Texture::Solid(Vec3::ONE));
+        let base = s.add_material(Material::Lambertian { albedo: tex });
+        let tilt = 0.5 + 0.5 * std::f32::consts::FRAC_1_SQRT_2;
+        let map = s.add_texture(Texture::Solid(Vec3::new(tilt, 0.5, tilt)));
+        let m = s.add_material(Material::NormalMap {
+            base,
+            map,
+            strength: 1.0,
+        });
+        let elevation = if below { -10f32 } else { 10.0 }.to_radians();
+        s.objects = vec![
+            floor(m),
+            Node::Lamp(Lamp::Sun {
+                direction: Vec3::new(elevation.cos(), elevation.sin(), 0.0),
+                irradiance: Vec3::splat(3.0),
+                diameter: 0.0,
+            }),
+        ];
+        s.settings.background = Background::Solid(Vec3::ZERO);
+        settings(&mut s, 16, 16, 4);
+        s.camera = Camera {
+            from: Vec3::new(0.0, 3.0, 0.5),
+            at: Vec3::ZERO,
+            vfov: 40.0,
+            ..Camera::default()
+        };
+        let out = run(&s);
+        let bright = out.pixels.iter().filter(|p| p.max_element() > 0.0).count();
+        if lit {
+            assert_eq!(bright, out.pixels.len(), "the sun above lights the plane");
+        } else {
+            assert_eq!(bright, 0, "the sun below the horizon leaked through");
+        }
     }
 }
 
