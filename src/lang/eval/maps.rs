@@ -56,8 +56,8 @@ impl Evaluator {
                 Diagnostic::error(Code::Type, s, format!("{what} cannot be mapped"))
                     .label("this material")
                     .help(
-                        "map a surface that scatters: lambertian, metal or dielectric, \
-                         with at most one map",
+                        "map a material that scatters at a surface (any but a light or \
+                         `isotropic`), with at most one map",
                     ),
             )),
         }
