@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use rtlang::scene::mesh::MeshMaterialKind;
-use rtlang::scene::obj::{fuzz_from_shininess, load_obj, ObjError};
+use rtlang::scene::obj::{load_obj, roughness_from_shininess, ObjError};
 use rtlang::scene::MeshData;
 
 /// Where the third-party assets live: `$RTLANG_SHARED` if set, else the
@@ -172,7 +172,7 @@ fn cornell_box_maps_its_light_and_walls() {
 }
 
 #[test]
-fn cottage_loads_with_uvs_and_diffuse_materials() {
+fn cottage_loads_with_uvs_and_coated_materials() {
     let Some(path) = shared("assets/meshes/cottage_obj.obj") else {
         return;
     };
@@ -182,11 +182,22 @@ fn cottage_loads_with_uvs_and_diffuse_materials() {
     assert_eq!(mesh.normals.len(), mesh.positions.len());
     let names: Vec<_> = mesh.materials.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["cottage_texture", "ground", "light_1"]);
-    // Ks 0.5 under Kd 0.64 with illum 2 is a highlight, not a mirror.
-    assert!(mesh
-        .materials
-        .iter()
-        .all(|m| matches!(m.kind, MeshMaterialKind::Diffuse { .. })));
+    // Ks 0.5 under Kd 0.64 with illum 2 is a highlight, not a mirror: a
+    // coat of α = √(2 / (Ns + 2)); `Ni 1` (Blender's "not set") is 1.5.
+    for m in &mesh.materials {
+        assert_eq!(
+            m.kind,
+            MeshMaterialKind::Plastic {
+                color: Vec3::splat(0.64),
+                texture: None,
+                ior: 1.5,
+                alpha: (2.0f32 / (96.078_43 + 2.0)).sqrt(),
+            },
+            "{}",
+            m.name
+        );
+        assert_eq!(m.map, None);
+    }
     assert_eq!(mesh.triangle_material.len(), mesh.len());
 }
 
@@ -239,16 +250,16 @@ fn quads_and_ngons_with_negative_indices_are_fanned() {
         mesh.materials[mesh.triangle_material[4] as usize].kind,
         MeshMaterialKind::Metal {
             color: Vec3::new(0.9, 0.8, 0.7),
-            fuzz: fuzz_from_shininess(198.0)
+            fuzz: roughness_from_shininess(198.0)
         }
     );
 }
 
 #[test]
 fn shininess_maps_to_fuzz_monotonically() {
-    assert_eq!(fuzz_from_shininess(0.0), 1.0);
-    assert!((fuzz_from_shininess(198.0) - 0.1).abs() < 1e-6);
-    assert!(fuzz_from_shininess(1000.0) < fuzz_from_shininess(10.0));
+    assert_eq!(roughness_from_shininess(0.0), 1.0);
+    assert!((roughness_from_shininess(198.0) - 0.1).abs() < 1e-6);
+    assert!(roughness_from_shininess(1000.0) < roughness_from_shininess(10.0));
 }
 
 #[test]

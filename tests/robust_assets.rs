@@ -74,9 +74,9 @@ fn mtl_colours_that_are_not_colours_fall_back_with_a_warning() {
     }
     for m in &loaded.mesh.materials {
         let colour = match &m.kind {
-            MeshMaterialKind::Diffuse { color, .. } | MeshMaterialKind::Metal { color, .. } => {
-                *color
-            }
+            MeshMaterialKind::Diffuse { color, .. }
+            | MeshMaterialKind::Plastic { color, .. }
+            | MeshMaterialKind::Metal { color, .. } => *color,
             MeshMaterialKind::Light { emit } => *emit,
             MeshMaterialKind::Dielectric { .. } => Vec3::ONE,
         };

@@ -96,6 +96,7 @@ fn yes_no(b: bool) -> &'static str {
 fn kind_name(kind: &MeshMaterialKind) -> &'static str {
     match kind {
         MeshMaterialKind::Diffuse { .. } => "diffuse",
+        MeshMaterialKind::Plastic { .. } => "plastic",
         MeshMaterialKind::Metal { .. } => "metal",
         MeshMaterialKind::Dielectric { .. } => "dielectric",
         MeshMaterialKind::Light { .. } => "light",

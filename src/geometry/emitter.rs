@@ -132,7 +132,7 @@ pub struct Placed {
 /// Whether `material` is a light.
 pub fn is_light(scene: &Scene, material: MaterialId) -> bool {
     matches!(
-        scene.materials.get(material.0 as usize),
+        scene.materials.get(material.index()),
         Some(Material::Light { .. })
     )
 }
@@ -145,7 +145,7 @@ impl Emitters {
             .iter()
             .map(|p| {
                 let two_sided = matches!(
-                    scene.materials.get(p.material.0 as usize),
+                    scene.materials.get(p.material.index()),
                     Some(Material::Light {
                         two_sided: true,
                         ..

@@ -9,6 +9,7 @@ use glam::Vec3;
 use super::emitter::LightId;
 use super::ray::{offset_origin, SurfacePoint};
 use super::shapes::ShapeHit;
+use super::tangents::Tangents;
 use super::uv::SurfaceUv;
 use crate::scene::MaterialId;
 
@@ -31,6 +32,9 @@ pub struct Hit {
     /// Whether the ray hit the outward-facing side of the surface.
     pub front_face: bool,
     pub material: MaterialId,
+    /// ∂p/∂u and ∂p/∂v, for a material that reads a tangent frame
+    /// ([`MaterialId::needs_tangents`]); [`Tangents::NONE`] for any other.
+    pub tangents: Tangents,
     /// The emitter hit, if the surface is one the world lists
     /// ([`crate::geometry::emitter::Emitters`]).
     pub light: LightId,
@@ -72,6 +76,7 @@ pub fn facing_flat(h: ShapeHit, dir: Vec3, material: MaterialId, light: LightId)
         uv: h.uv,
         front_face,
         material,
+        tangents: Tangents::NONE,
         light,
     }
 }

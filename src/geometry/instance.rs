@@ -227,6 +227,9 @@ impl Instance {
         (h.point, h.error) = transform_point(&s.to_parent, h.point, h.error);
         h.geo_normal = s.normal.mul_vec3(h.geo_normal).normalize_or(h.geo_normal);
         h.normal = s.normal.mul_vec3(h.normal).normalize_or(h.geo_normal);
+        if h.material.needs_tangents() {
+            h.tangents = h.tangents.map(|v| s.to_parent.transform_vector3(v));
+        }
         Some(h)
     }
 }

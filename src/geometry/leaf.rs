@@ -514,7 +514,7 @@ mod tests {
                 assert_eq!(mesh.occluded(&ray, 1e-4, t_max), any(&tri_prims));
             }
             let want = brute_force(&prims, &ray);
-            let got = set.intersect(&ray, 1e-4, f32::INFINITY).map(|h| h.0);
+            let got = set.intersect_slot(&ray, 1e-4, f32::INFINITY).map(|h| h.0);
             assert_eq!(got.is_some(), want.is_some());
             if let (Some(a), Some(b)) = (got, want) {
                 assert!(same_hit(&a, &b), "{a:?} != {b:?}");

@@ -12,6 +12,7 @@ use super::emitter::LightId;
 use super::leaf::{all_lanes, slots, Packs, TriangleLeaf};
 use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
+use super::tangents::{self, Tangents};
 use super::{Aabb, Bvh, Ray};
 use crate::scene::{MaterialId, MeshData};
 
@@ -39,6 +40,8 @@ pub struct MeshHit {
     pub shading_normal: Vec3,
     pub material: MaterialId,
     pub light: LightId,
+    /// ∂p/∂u and ∂p/∂v when the material reads them.
+    pub tangents: Tangents,
 }
 
 impl MeshGeometry {
@@ -108,6 +111,18 @@ impl MeshGeometry {
         })
     }
 
+    /// The tangents of the triangle of corners `p` and vertex indices
+    /// `idx`, over its uvs (or its barycentrics when the mesh has none).
+    #[inline(never)]
+    fn tangents(&self, p: [Vec3; 3], idx: [usize; 3]) -> Tangents {
+        let uv = if self.data.uvs.is_empty() {
+            [Vec2::ZERO, Vec2::X, Vec2::Y]
+        } else {
+            idx.map(|i| self.data.uvs[i])
+        };
+        tangents::triangle(p, uv)
+    }
+
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
         let mut sheared = None;
@@ -155,7 +170,13 @@ impl MeshGeometry {
             .copied()
             .unwrap_or(0);
         let material = self.materials[(slot as usize).min(self.materials.len() - 1)];
+        let tangents = if material.needs_tangents() {
+            self.tangents([a, b, c], idx)
+        } else {
+            Tangents::NONE
+        };
         Some(MeshHit {
+            tangents,
             hit: ShapeHit {
                 t: h.t,
                 point: w.x * a + w.y * b + w.z * c,

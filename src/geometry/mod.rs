@@ -21,6 +21,7 @@ pub mod revolution;
 pub mod segments;
 pub mod shapes;
 pub mod sweep;
+pub mod tangents;
 pub mod uv;
 
 pub use aabb::Aabb;
@@ -28,4 +29,5 @@ pub use build::{BuildError, World};
 pub use bvh::Bvh;
 pub use hit::Hit;
 pub use ray::Ray;
+pub use tangents::Tangents;
 pub use uv::SurfaceUv;

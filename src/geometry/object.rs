@@ -102,17 +102,17 @@ impl Geometry {
             Geometry::Primitives(p) => p.intersect_facing(ray, t_min, t_max),
             Geometry::Single(p, m, light) => {
                 let h = p.intersect(ray, t_min, t_max)?;
-                Some(facing_flat(h, ray.dir, *m, *light))
+                let mut hit = facing_flat(h, ray.dir, *m, *light);
+                if m.needs_tangents() {
+                    hit.tangents = p.tangents(&h);
+                }
+                Some(hit)
             }
             Geometry::Mesh(mesh) => {
                 let h = mesh.intersect(ray, t_min, t_max)?;
-                Some(facing(
-                    h.hit,
-                    h.shading_normal,
-                    ray.dir,
-                    h.material,
-                    h.light,
-                ))
+                let mut hit = facing(h.hit, h.shading_normal, ray.dir, h.material, h.light);
+                hit.tangents = h.tangents;
+                Some(hit)
             }
             Geometry::Revolution { surface, material } => {
                 let s = surface.intersect(ray, t_min, t_max)?;
@@ -127,7 +127,11 @@ impl Geometry {
             }
             Geometry::Plane { plane, material } => {
                 let h = plane.intersect(ray, t_min, t_max)?;
-                Some(facing_flat(h, ray.dir, *material, LightId::NONE))
+                let mut hit = facing_flat(h, ray.dir, *material, LightId::NONE);
+                if material.needs_tangents() {
+                    hit.tangents = super::tangents::plane(plane.normal);
+                }
+                Some(hit)
             }
             Geometry::Group(g) => g.intersect(ray, t_min, t_max, media),
             Geometry::Medium(m) => {

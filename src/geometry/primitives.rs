@@ -78,17 +78,17 @@ impl PrimitiveSet {
         self.bvh.bounds()
     }
 
-    /// The nearest hit in `(t_min, t_max)` with its material and light id,
+    /// The nearest hit in `(t_min, t_max)` and the slot of its primitive,
     /// by the walk of the tree (built for flat sets too, so right for any
     /// set). The world asks [`PrimitiveSet::intersect_facing`], which takes a
     /// flat set's eight-lane passes instead.
     #[inline]
-    pub(super) fn intersect(
+    pub(super) fn intersect_slot(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-    ) -> Option<(ShapeHit, MaterialId, LightId)> {
+    ) -> Option<(ShapeHit, usize)> {
         let mut best = None;
         // The leaf visit is inlined into the walk rather than called once per
         // leaf: with the eight-wide walk, renders of the Cornell box and the
@@ -126,7 +126,7 @@ impl PrimitiveSet {
             },
         );
         let (c, slot) = best?;
-        Some(self.hit(slot, ray, &c))
+        Some((self.prims[slot].surface(ray, &c), slot))
     }
 
     /// The nearest hit in `(t_min, t_max)` as the [`Hit`] facing the ray,
@@ -138,8 +138,27 @@ impl PrimitiveSet {
         if let Some(flat) = &self.flat {
             return self.flat_hit(flat, ray, t_min, t_max);
         }
-        let (h, material, light) = self.intersect(ray, t_min, t_max)?;
-        Some(facing_flat(h, ray.dir, material, light))
+        let (h, slot) = self.intersect_slot(ray, t_min, t_max)?;
+        let (material, light) = self.ids(slot);
+        Some(self.faced(slot, h, ray.dir, material, light))
+    }
+
+    /// [`facing_flat`] with the tangents of slot `slot`'s primitive when
+    /// the material reads them.
+    #[inline(always)]
+    fn faced(
+        &self,
+        slot: usize,
+        h: ShapeHit,
+        dir: glam::Vec3,
+        material: MaterialId,
+        light: LightId,
+    ) -> Hit {
+        let mut hit = facing_flat(h, dir, material, light);
+        if material.needs_tangents() {
+            hit.tangents = self.prims[slot].tangents(&h);
+        }
+        hit
     }
 
     /// The nearest hits in `(t_min, ∞)` of up to [`LANES`] rays that cross
@@ -210,7 +229,7 @@ impl PrimitiveSet {
                     }
                     _ => self.hit(slot, ray, &c),
                 };
-                facing_flat(h, ray.dir, material, light)
+                self.faced(slot, h, ray.dir, material, light)
             });
         }
     }
@@ -285,7 +304,7 @@ impl PrimitiveSet {
     pub fn flat_hit_at(&self, slot: usize, ray: &Ray, c: &Crossing) -> Hit {
         let h = self.flat_surface(slot, ray, c);
         let (material, light) = self.ids(slot);
-        facing_flat(h, ray.dir, material, light)
+        self.faced(slot, h, ray.dir, material, light)
     }
 
     /// The surface at crossing `c` of a flat set's slot `slot`: the two

@@ -11,7 +11,7 @@ use std::time::SystemTime;
 
 use crate::scene::mesh::MeshData;
 use crate::scene::obj::{load_obj_within, ObjError};
-use crate::scene::{image::ImageLoadError, ImageData};
+use crate::scene::{image::ImageLoadError, Encoding, ImageData};
 
 /// A mesh as loaded: its data and the loader's warnings.
 pub type LoadedMesh = (Arc<MeshData>, Arc<[String]>);
@@ -22,6 +22,7 @@ type Entries<T> = Mutex<HashMap<PathBuf, (Option<SystemTime>, T)>>;
 #[derive(Default)]
 pub struct AssetCache {
     images: Entries<Arc<ImageData>>,
+    data_images: Entries<Arc<ImageData>>,
     hdr_images: Entries<Arc<ImageData>>,
     meshes: Entries<LoadedMesh>,
 }
@@ -58,7 +59,23 @@ fn cached<T: Clone, E>(
 impl AssetCache {
     /// The image at `path`, loaded once per modification.
     pub fn image(&self, path: &Path) -> Result<Arc<ImageData>, ImageLoadError> {
-        cached(&self.images, path, || ImageData::load(path).map(Arc::new))
+        self.image_as(path, Encoding::Srgb)
+    }
+
+    /// The image at `path` decoded by `encoding`, loaded once per
+    /// modification.
+    pub fn image_as(
+        &self,
+        path: &Path,
+        encoding: Encoding,
+    ) -> Result<Arc<ImageData>, ImageLoadError> {
+        let entries = match encoding {
+            Encoding::Srgb => &self.images,
+            Encoding::Data => &self.data_images,
+        };
+        cached(entries, path, || {
+            ImageData::load_as(path, encoding).map(Arc::new)
+        })
     }
 
     /// The high-dynamic-range image at `path`, loaded once per

@@ -420,7 +420,7 @@ impl Session {
             .world
             .intersect(&ray, 1e-4, f32::INFINITY)
             .unwrap_or(tagged);
-        let material = good.scene.materials.get(hit.material.0 as usize);
+        let material = good.scene.materials.get(hit.material.index());
         out["hit"] = json!(true);
         out["object"] = json!(index);
         out["kind"] = json!(good.scene.objects.get(index).map_or("?".into(), kind));

@@ -132,7 +132,7 @@ impl Coats {
     /// The table of the plastic material `id`.
     #[inline]
     pub fn of(&self, id: MaterialId) -> &Table {
-        let k = self.of_material[id.0 as usize].expect("a coat table for every plastic");
+        let k = self.of_material[id.index()].expect("a coat table for every plastic");
         &self.tables[k]
     }
 }

@@ -24,6 +24,7 @@ use super::bsdf::BsdfSample;
 use super::camera::CameraRays;
 use super::coat::Coats;
 use super::lights::LightList;
+use super::maps;
 use super::material;
 use super::options::RenderOptions;
 use crate::geometry::emitter::LightId;
@@ -368,9 +369,12 @@ impl<'a> Tracer<'a> {
             return false;
         };
         sampler.begin(Dim::Bsdf);
-        let bsdf = material::bsdf(self.scene, &self.coats, &hit, self.world.origin());
         let wo = -ray.dir;
-        let sample = bsdf.sample_from(wo, sampler);
+        let bsdf = material::bsdf(self.scene, &self.coats, &hit, wo, self.world.origin());
+        let mut sample = bsdf.sample_from(wo, sampler);
+        if hit.material.needs_tangents() {
+            sample = sample.filter(|s| maps::keeps_side(&hit, bsdf.facing(), s.wi));
+        }
         let emitted = bsdf.emitted();
         if emitted != Vec3::ZERO {
             let weight = path.previous.emission_weight(lights, nee, &hit);
@@ -525,6 +529,7 @@ fn medium_point(ray: &Ray, t: f32, material: MaterialId) -> Hit {
         uv: glam::Vec2::ZERO.into(),
         front_face: true,
         material,
+        tangents: crate::geometry::Tangents::NONE,
         light: LightId::NONE,
     }
 }

@@ -203,7 +203,7 @@ impl<'a> Lanes<'a> {
                     alive[i] = false;
                     continue;
                 };
-                match self.surfaces[material.0 as usize] {
+                match self.surfaces[material.index()] {
                     Surface::Diffuse(albedo) => {
                         diffuse[i] = true;
                         frame.albedo.set(i, albedo);

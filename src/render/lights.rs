@@ -261,7 +261,7 @@ impl LightList {
             let Some(e) = e.filter(|e| e.shape.is_sampleable()) else {
                 continue;
             };
-            let Some(&Some((_, emit, two_sided))) = weight.get(e.material.0 as usize) else {
+            let Some(&Some((_, emit, two_sided))) = weight.get(e.material.index()) else {
                 continue;
             };
             *slot = Some(lights.len() as u32);

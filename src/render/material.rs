@@ -1,34 +1,71 @@
 //! A scene material at a hit becomes its [`Bsdf`]: the one place a hit's
 //! texture is looked up, and where a metal with (almost) no fuzz becomes a
 //! specular mirror, a dielectric's index ratio is chosen by the side hit and
-//! the microfacet materials get their lobes ([`super::rough`]).
+//! the microfacet materials get their lobes ([`super::rough`]). A normal or
+//! bump map wrapper gives its material the mapped shading normal
+//! ([`super::maps`]).
 
 use glam::Vec3;
 
 use super::bsdf::Bsdf;
 use super::coat::Coats;
 use super::fuzz::SPECULAR_FUZZ;
+use super::maps;
 use super::microfacet::conductor_of_reflectance;
 use super::rough::{self, Lobe};
 use super::texture::lookup;
 use crate::geometry::Hit;
 use crate::scene::material::ConductorFresnel;
-use crate::scene::{Material, Scene};
+use crate::scene::{Material, MaterialId, Scene};
 
-/// The scattering of `hit`'s material at `hit`, a hit of a world whose
-/// frame has its origin at the scene point `frame`: textures are looked up
-/// at the hit's scene point, so they do not move with the frame. A plastic
-/// reads its coat's tables from `coats`.
+/// The scattering of `hit`'s material at `hit`, seen from `wo`, a hit of a
+/// world whose frame has its origin at the scene point `frame`: textures
+/// are looked up at the hit's scene point, so they do not move with the
+/// frame. A plastic reads its coat's tables from `coats`.
 #[inline]
-pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, frame: Vec3) -> Bsdf<'a> {
+pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf<'a> {
+    match *scene.material(hit.material) {
+        Material::NormalMap {
+            base,
+            map,
+            strength,
+        } => {
+            let p = hit.point + frame;
+            let normal = maps::normal_mapped(scene, hit, wo, p, map, strength);
+            surface(scene, coats, base, hit, normal, frame)
+        }
+        Material::Bump {
+            base,
+            height,
+            scale,
+        } => {
+            let p = hit.point + frame;
+            let normal = maps::bumped(scene, hit, wo, p, height, scale);
+            surface(scene, coats, base, hit, normal, frame)
+        }
+        _ => surface(scene, coats, hit.material, hit, hit.normal, frame),
+    }
+}
+
+/// The scattering of the material `id` at `hit` with shading normal
+/// `normal`.
+#[inline(always)]
+fn surface<'a>(
+    scene: &Scene,
+    coats: &'a Coats,
+    id: MaterialId,
+    hit: &Hit,
+    normal: Vec3,
+    frame: Vec3,
+) -> Bsdf<'a> {
     let albedo = |id| lookup(scene, id, hit.uv, hit.point + frame);
-    let (normal, geo_normal) = (hit.normal, hit.geo_normal);
+    let geo_normal = hit.geo_normal;
     let rough = |lobe| Bsdf::Rough {
         lobe,
         normal,
         geo_normal,
     };
-    match *scene.material(hit.material) {
+    match *scene.material(id) {
         Material::Lambertian { albedo: tex } => Bsdf::Lambertian {
             albedo: albedo(tex),
             normal,
@@ -78,7 +115,7 @@ pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, frame: Vec3) -> Bsdf
             albedo: albedo(tex),
             eta: ior,
             alpha,
-            coat: coats.of(hit.material),
+            coat: coats.of(id),
         })),
         Material::MetalRough {
             base,
@@ -100,5 +137,24 @@ pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, frame: Vec3) -> Bsdf
                 alpha: r * r,
             }))
         }
+        // The language refuses a map of a map; were one built in code,
+        // its inner map is left out.
+        Material::NormalMap { base, .. } | Material::Bump { base, .. } => {
+            inner(scene, coats, base, hit, normal, frame)
+        }
     }
+}
+
+/// [`surface`] of a map's material, out of line so that `surface` is
+/// inlined where it is called.
+#[inline(never)]
+fn inner<'a>(
+    scene: &Scene,
+    coats: &'a Coats,
+    id: MaterialId,
+    hit: &Hit,
+    normal: Vec3,
+    frame: Vec3,
+) -> Bsdf<'a> {
+    surface(scene, coats, id, hit, normal, frame)
 }

@@ -18,6 +18,7 @@ pub mod lamps;
 pub mod lanes;
 pub mod light_tree;
 pub mod lights;
+pub mod maps;
 pub mod material;
 pub mod merge;
 pub mod microfacet;

@@ -47,7 +47,7 @@ fn pattern(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -
                 };
                 id = if is_even { *even } else { *odd };
             }
-            Texture::Image(img) => return bilinear(img, uv.get()),
+            Texture::Image(img) | Texture::Data(img) => return bilinear(img, uv.get()),
             Texture::Noise { scale, color } => {
                 let marble = 0.5 * (1.0 + (scale * p.z + 10.0 * turbulence(*scale * p)).sin());
                 return *color * marble;

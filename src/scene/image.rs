@@ -81,21 +81,35 @@ impl ImageData {
     /// the bytes an image of its header's size may hold, and decoded to
     /// that size at most.
     pub fn load(path: &Path) -> Result<ImageData, ImageLoadError> {
+        Self::load_as(path, Encoding::Srgb)
+    }
+
+    /// Loads an image file as [`ImageData::load`] does, its values decoded
+    /// by `encoding`.
+    pub fn load_as(path: &Path, encoding: Encoding) -> Result<ImageData, ImageLoadError> {
         let (rgb, shown) = decode(path)?;
         let rgb = rgb.to_rgb8();
         if rgb.width() == 0 || rgb.height() == 0 {
             return Err(ImageLoadError::Empty { path: shown });
         }
-        let lut = &*SRGB8_TO_LINEAR;
+        Ok(Self::from_rgb8(&rgb, encoding))
+    }
+
+    /// The pixels of a decoded 8-bit RGB image, decoded by `encoding`.
+    pub fn from_rgb8(rgb: &image::RgbImage, encoding: Encoding) -> ImageData {
+        let lut: [f32; 256] = match encoding {
+            Encoding::Srgb => *SRGB8_TO_LINEAR,
+            Encoding::Data => std::array::from_fn(|c| c as f32 / 255.0),
+        };
         let pixels = rgb
             .pixels()
             .map(|p| Vec3::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]))
             .collect();
-        Ok(ImageData {
+        ImageData {
             width: rgb.width(),
             height: rgb.height(),
             pixels,
-        })
+        }
     }
 
     /// Loads a high-dynamic-range image (OpenEXR or Radiance HDR) as the
@@ -157,6 +171,15 @@ fn decode(path: &Path) -> Result<(image::DynamicImage, String), ImageLoadError> 
     reader.limits(limits);
     let decoded = reader.decode().map_err(|e| decode(e.to_string()))?;
     Ok((decoded, shown))
+}
+
+/// How an image file's 8-bit values become numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    /// Colour: sRGB-decoded to linear RGB.
+    Srgb,
+    /// Data (normal maps, heights, roughness): each value over 255.
+    Data,
 }
 
 /// The width and height an image's header gives, its format told by its

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::TextureId;
+use super::{MaterialId, TextureId};
 
 /// How a surface (or a medium) scatters and emits light.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -44,6 +44,28 @@ pub enum Material {
         roughness: f32,
         metallic_roughness: Option<TextureId>,
     },
+    /// `base` with its shading normal read from a tangent-space normal map
+    /// (`map`, an image read as data: x, y, z = 2·rgb − 1 along ∂p/∂u, ∂p/∂v
+    /// and the normal), its tilt scaled by `strength` (≥ 0).
+    NormalMap {
+        base: MaterialId,
+        map: TextureId,
+        strength: f32,
+    },
+    /// `base` with its shading normal tilted by the slope of the height
+    /// field `scale` × `height` over the surface's (u, v).
+    Bump {
+        base: MaterialId,
+        height: TextureId,
+        scale: f32,
+    },
+}
+
+impl Material {
+    /// Whether the material reads a tangent frame at its hits.
+    pub fn needs_tangents(&self) -> bool {
+        matches!(self, Material::NormalMap { .. } | Material::Bump { .. })
+    }
 }
 
 /// Where a conductor's Fresnel reflectance comes from.

@@ -47,6 +47,27 @@ impl std::fmt::Debug for MeshData {
 pub struct MeshMaterial {
     pub name: String,
     pub kind: MeshMaterialKind,
+    /// A bump or normal map over the material (left out of the serialized
+    /// form when there is none, so scenes without maps keep their identity).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub map: Option<MeshMap>,
+}
+
+/// A map an MTL entry lays over its material.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub enum MeshMap {
+    /// `bump` / `map_Bump`: a height field in scene units, times `scale`
+    /// (its `-bm` option, 1 when absent).
+    Bump {
+        #[serde(serialize_with = "lossy_file")]
+        file: std::path::PathBuf,
+        scale: f32,
+    },
+    /// `norm`: a tangent-space normal map.
+    Normal {
+        #[serde(serialize_with = "lossy_file")]
+        file: std::path::PathBuf,
+    },
 }
 
 /// What an MTL entry maps to.
@@ -56,6 +77,15 @@ pub enum MeshMaterialKind {
         color: Vec3,
         #[serde(serialize_with = "lossy_path")]
         texture: Option<std::path::PathBuf>,
+    },
+    /// A diffuse base under a GGX dielectric coat of index `ior` and
+    /// roughness `alpha` (an MTL highlight: non-zero `Ks`).
+    Plastic {
+        color: Vec3,
+        #[serde(serialize_with = "lossy_path")]
+        texture: Option<std::path::PathBuf>,
+        ior: f32,
+        alpha: f32,
     },
     Metal {
         color: Vec3,
@@ -114,4 +144,9 @@ fn lossy_path<S: serde::Serializer>(
         Some(p) => s.serialize_some(&p.to_string_lossy()),
         None => s.serialize_none(),
     }
+}
+
+/// [`lossy_path`] of a path that is always there.
+fn lossy_file<S: serde::Serializer>(path: &std::path::Path, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&path.to_string_lossy())
 }

@@ -27,7 +27,7 @@ use std::sync::Arc;
 
 pub use camera::Camera;
 pub use curve::Bezier;
-pub use image::ImageData;
+pub use image::{Encoding, ImageData};
 pub use light::Lamp;
 pub use material::Material;
 pub use mesh::MeshData;
@@ -40,9 +40,29 @@ pub use texture::Texture;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct TextureId(pub u32);
 
-/// Index of a material in [`Scene::materials`].
+/// Index of a material in [`Scene::materials`], with
+/// [`MaterialId::TANGENTS`] set when the material reads a tangent frame:
+/// geometry asks the bit, already at hand in a register, before it computes
+/// a hit's ∂p/∂u and ∂p/∂v, so scenes without maps never compute them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct MaterialId(pub u32);
+
+impl MaterialId {
+    /// The bit of a material that reads a tangent frame ([`Material::needs_tangents`]).
+    pub const TANGENTS: u32 = 1 << 31;
+
+    /// The material's place in [`Scene::materials`].
+    #[inline]
+    pub fn index(self) -> usize {
+        (self.0 & !Self::TANGENTS) as usize
+    }
+
+    /// Whether hits of the material carry ∂p/∂u and ∂p/∂v.
+    #[inline]
+    pub fn needs_tangents(self) -> bool {
+        self.0 & Self::TANGENTS != 0
+    }
+}
 
 /// Index of a triangle mesh in [`Scene::meshes`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
@@ -77,8 +97,13 @@ impl Scene {
 
     /// Appends a material and returns its id.
     pub fn add_material(&mut self, material: Material) -> MaterialId {
+        let flag = if material.needs_tangents() {
+            MaterialId::TANGENTS
+        } else {
+            0
+        };
         self.materials.push(material);
-        MaterialId(self.materials.len() as u32 - 1)
+        MaterialId((self.materials.len() as u32 - 1) | flag)
     }
 
     /// Appends a mesh and returns its id.
@@ -100,6 +125,6 @@ impl Scene {
 
     /// The material with the given id.
     pub fn material(&self, id: MaterialId) -> &Material {
-        &self.materials[id.0 as usize]
+        &self.materials[id.index()]
     }
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use super::file;
-use super::mesh::{MeshMaterial, MeshMaterialKind};
+use super::mesh::{MeshMap, MeshMaterial, MeshMaterialKind};
 use super::obj_lines::LineError;
 use super::MeshData;
 
@@ -180,6 +180,7 @@ fn merge_models(
                 materials.push(MeshMaterial {
                     name: "default".into(),
                     kind: MeshMaterialKind::fallback(),
+                    map: None,
                 });
                 (materials.len() - 1) as u16
             }),
@@ -242,11 +243,14 @@ fn vertex_normals(positions: &[Vec3], first: u32, count: usize, tris: &[[u32; 3]
     acc.into_iter().map(Vec3::normalize_or_zero).collect()
 }
 
-/// Maps one MTL entry to an rtlang material:
+/// Maps one MTL entry to an rtlang material (docs/assets.md has the table):
 /// non-zero `Ke` → light; `d < 1` or `illum` 4–7 → dielectric with `Ni`;
 /// a specular colour `Ks` brighter than the diffuse one, or `illum 3`
 /// (mirror reflection), → metal with fuzz from the Phong exponent `Ns`;
-/// otherwise diffuse `Kd`, textured by `map_Kd` when that file exists.
+/// otherwise `Kd` (textured by `map_Kd` when that file exists) → diffuse,
+/// under a GGX coat ([`MeshMaterialKind::Plastic`]) when the entry has a
+/// highlight ([`has_highlight`]). `bump`/`map_Bump` and `norm` add a map
+/// ([`mesh_map`]); `map_d` and `map_Ks` images are not read (a warning).
 fn map_material(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> MeshMaterial {
     let mut rgb = |key: &str, c: Option<[f32; 3]>, default: Vec3| match c.map(Vec3::from_array) {
         Some(c) if c.is_finite() && c.min_element() >= 0.0 => c,
@@ -264,6 +268,11 @@ fn map_material(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> 
     let ke = rgb("Ke", m.emissive, Vec3::ZERO);
     let illum = m.illumination_model.unwrap_or(2);
     let transparent = m.dissolve.is_some_and(|d| d < 1.0) || (4..=7).contains(&illum);
+    let ns = m
+        .shininess
+        .filter(|n| n.is_finite())
+        .unwrap_or(0.0)
+        .max(0.0);
 
     let kind = if ke.max_element() > 0.0 {
         MeshMaterialKind::Light { emit: ke }
@@ -271,30 +280,140 @@ fn map_material(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> 
         let ior = m.optical_density.filter(|&n| n > 0.0).unwrap_or(1.5);
         MeshMaterialKind::Dielectric { ior }
     } else if (ks.max_element() > 0.0 && ks.max_element() > kd.max_element()) || illum == 3 {
-        let ns = m.shininess.unwrap_or(0.0).max(0.0);
         MeshMaterialKind::Metal {
             color: ks,
-            fuzz: fuzz_from_shininess(ns),
+            fuzz: roughness_from_shininess(ns),
         }
     } else {
-        MeshMaterialKind::Diffuse {
-            color: kd,
-            texture: m
-                .diffuse_texture
-                .as_deref()
-                .and_then(|t| resolve_texture(&m.name, t, base, warnings)),
+        let texture = m.diffuse_texture.as_deref().and_then(|t| {
+            let name = map_statement(&m.name, "map_Kd", t, warnings).0;
+            resolve_texture(&m.name, &name, base, warnings, "using its diffuse colour")
+        });
+        if has_highlight(m, ks, illum) {
+            MeshMaterialKind::Plastic {
+                color: kd,
+                texture,
+                ior: coat_ior(m.optical_density),
+                alpha: roughness_from_shininess(ns),
+            }
+        } else {
+            MeshMaterialKind::Diffuse { color: kd, texture }
         }
+    };
+    for (key, file, why) in [
+        (
+            "map_d",
+            &m.dissolve_texture,
+            "alpha cut-outs are not supported: the surface is opaque",
+        ),
+        (
+            "map_Ks",
+            &m.specular_texture,
+            "the coat's reflectance comes from its Fresnel term, not from an image",
+        ),
+    ] {
+        if let Some(file) = file {
+            warnings.push(format!(
+                "material `{}`: `{key} {file}` is ignored ({why})",
+                m.name
+            ));
+        }
+    }
+    let map = match kind {
+        MeshMaterialKind::Light { .. } => None,
+        _ => mesh_map(m, base, warnings),
     };
     MeshMaterial {
         name: m.name.clone(),
         kind,
+        map,
     }
 }
 
-/// The Phong exponent `Ns` as a metal fuzz in [0, 1]: the Beckmann roughness
-/// `√(2 / (Ns + 2))` that matches a Blinn–Phong lobe of that exponent.
-pub fn fuzz_from_shininess(ns: f32) -> f32 {
+/// Whether an MTL entry asks for a highlight: an illumination model with
+/// one (`illum` 2, the default, or above) and a specular colour `Ks` that
+/// is not black, or no `Ks` but a `map_Ks` image (which `Ks` would scale).
+fn has_highlight(m: &tobj::Material, ks: Vec3, illum: u8) -> bool {
+    let specular = match m.specular {
+        Some(_) => ks.max_element() > 0.0,
+        None => m.specular_texture.is_some(),
+    };
+    illum >= 2 && specular
+}
+
+/// The index of refraction of a highlight's coat: `Ni` when it is one a
+/// coat can have (in (1, 4]), else 1.5. Exporters write `Ni 1` for "not
+/// set", and a coat of index 1 would reflect nothing.
+pub fn coat_ior(ni: Option<f32>) -> f32 {
+    ni.filter(|n| *n > 1.0 && *n <= 4.0).unwrap_or(1.5)
+}
+
+/// The Phong exponent `Ns` as a microfacet roughness α in [0, 1]:
+/// √(2 / (Ns + 2)), the Beckmann width whose lobe matches a Blinn–Phong
+/// lobe of that exponent (Walter et al. 2007), used as the coat's GGX α and
+/// as a metal's fuzz.
+pub fn roughness_from_shininess(ns: f32) -> f32 {
     (2.0 / (ns + 2.0)).sqrt().clamp(0.0, 1.0)
+}
+
+/// The bump map (`bump`, `map_Bump`, scaled by `-bm`) or normal map
+/// (`norm`) of an MTL entry; `norm` wins when both are there (a surface
+/// carries one map). A missing file is a warning and no map.
+fn mesh_map(m: &tobj::Material, base: &Path, warnings: &mut Vec<String>) -> Option<MeshMap> {
+    let unmapped = "the surface stays unmapped";
+    if let Some(spec) = m.unknown_param.get("norm") {
+        if m.normal_texture.is_some() {
+            warnings.push(format!(
+                "material `{}`: has both `norm` and a bump map; the bump map is ignored (a surface carries one map)",
+                m.name
+            ));
+        }
+        let (name, _) = map_statement(&m.name, "norm", spec, warnings);
+        let file = resolve_texture(&m.name, &name, base, warnings, unmapped)?;
+        return Some(MeshMap::Normal { file });
+    }
+    let spec = m.normal_texture.as_deref()?;
+    let (name, scale) = map_statement(&m.name, "bump", spec, warnings);
+    let file = resolve_texture(&m.name, &name, base, warnings, unmapped)?;
+    Some(MeshMap::Bump { file, scale })
+}
+
+/// A map statement's file name and `-bm` factor (1 when absent; a factor
+/// that is not a number in [0, 1e6] is a warning and 1). The other options
+/// are skipped with their arguments: `-o`, `-s`, `-t` take one to three
+/// numbers, `-mm` two, the rest one.
+fn map_statement(
+    material: &str,
+    key: &str,
+    spec: &str,
+    warnings: &mut Vec<String>,
+) -> (String, f32) {
+    let words: Vec<&str> = spec.split_whitespace().collect();
+    let (mut i, mut scale) = (0, 1.0);
+    while i + 1 < words.len() && words[i].starts_with('-') {
+        let option = words[i];
+        let count = match option {
+            "-o" | "-s" | "-t" => words[i + 1..words.len() - 1]
+                .iter()
+                .take(3)
+                .take_while(|w| w.parse::<f32>().is_ok())
+                .count()
+                .max(1),
+            "-mm" => 2,
+            _ => 1,
+        };
+        if option == "-bm" {
+            match words[i + 1].parse::<f32>() {
+                Ok(s) if (0.0..=1e6).contains(&s) => scale = s,
+                _ => warnings.push(format!(
+                    "material `{material}`: `{key} -bm {}` is not a factor in [0, 1e6]; using 1",
+                    words[i + 1]
+                )),
+            }
+        }
+        i += 1 + count;
+    }
+    (words[i.min(words.len())..].join(" "), scale)
 }
 
 /// The texture file `name` relative to the OBJ's directory, or `None` with a
@@ -304,13 +423,14 @@ fn resolve_texture(
     name: &str,
     base: &Path,
     warnings: &mut Vec<String>,
+    fallback: &str,
 ) -> Option<PathBuf> {
     let path = base.join(name.trim());
     if path.is_file() {
         Some(path)
     } else {
         warnings.push(format!(
-            "material `{material}`: texture `{}` not found; using its diffuse colour",
+            "material `{material}`: texture `{}` not found; {fallback}",
             path.display()
         ));
         None

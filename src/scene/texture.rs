@@ -30,6 +30,9 @@ pub enum Texture {
     },
     /// An image looked up at the surface's (u, v), bilinearly.
     Image(Arc<ImageData>),
+    /// An image read as data, not colour: each 8-bit value over 255, without
+    /// sRGB decoding (normal maps, height fields), looked up bilinearly.
+    Data(Arc<ImageData>),
     /// Procedural noise (turbulent marble) at frequency `scale`, tinted by `color`.
     Noise { scale: f32, color: Vec3 },
 }

@@ -8,10 +8,10 @@ use std::sync::Arc;
 use super::{budget, Eval, Evaluator};
 use crate::lang::diagnostics::Diagnostic;
 use crate::lang::source::Span;
-use crate::scene::mesh::MeshMaterialKind;
+use crate::scene::mesh::{MeshMap, MeshMaterial, MeshMaterialKind};
 use crate::scene::obj::ObjError;
 use crate::scene::obj_lines::LineError;
-use crate::scene::{ImageData, Material, MaterialId, MeshId, Texture, TextureId};
+use crate::scene::{Encoding, ImageData, Material, MaterialId, MeshId, Texture, TextureId};
 
 const IMAGE_TYPES: &[&str] = &["png", "jpg", "jpeg"];
 const HDR_TYPES: &[&str] = &["exr", "hdr"];
@@ -48,21 +48,39 @@ impl Evaluator {
         ))
     }
 
-    /// The texture of the image file `path` (loaded once).
-    pub(super) fn image_texture(&mut self, path: &str, span: Span) -> Eval<TextureId> {
+    /// The texture of the image file `path` decoded by `encoding` (loaded
+    /// once).
+    pub(super) fn image_texture(
+        &mut self,
+        path: &str,
+        span: Span,
+        encoding: Encoding,
+    ) -> Eval<TextureId> {
         let full = self.resolve(path, span);
+        self.image_file(full, span, encoding)
+    }
+
+    /// [`Evaluator::image_texture`] of a resolved path.
+    pub(super) fn image_file(
+        &mut self,
+        full: PathBuf,
+        span: Span,
+        encoding: Encoding,
+    ) -> Eval<TextureId> {
         self.check_type(&full, span, IMAGE_TYPES, "image")?;
         if self.dry {
             return Ok(TextureId(0));
         }
-        if let Some(&id) = self.caches.images.get(&full) {
+        let key = (full, encoding);
+        if let Some(&id) = self.caches.images.get(&key) {
             return Ok(id);
         }
-        self.charge_image(&full, span)?;
-        match self.options.assets.image(&full) {
+        let full = &key.0;
+        self.charge_image(full, span)?;
+        match self.options.assets.image_as(full, encoding) {
             Ok(image) => {
-                let id = self.scene.add_texture(Texture::Image(image));
-                self.caches.images.insert(full, id);
+                let id = self.scene.add_texture(image_texture(image, encoding));
+                self.caches.images.insert(key, id);
                 Ok(id)
             }
             Err(e) => Err(self.report(
@@ -173,14 +191,21 @@ impl Evaluator {
             );
         }
         let dir = full.parent().map(Path::to_path_buf).unwrap_or_default();
-        let kinds: Vec<MeshMaterialKind> = if mesh.materials.is_empty() {
-            vec![MeshMaterialKind::fallback()]
+        let slots: Vec<MeshMaterial> = if mesh.materials.is_empty() {
+            vec![MeshMaterial {
+                name: "default".into(),
+                kind: MeshMaterialKind::fallback(),
+                map: None,
+            }]
         } else {
-            mesh.materials.iter().map(|m| m.kind.clone()).collect()
+            mesh.materials.clone()
         };
-        let materials = kinds
+        let materials = slots
             .iter()
-            .map(|kind| self.mesh_material(kind, &dir, span))
+            .map(|slot| {
+                let base = self.mesh_material(&slot.kind, &dir, span);
+                self.mesh_map(base, slot.map.as_ref(), span)
+            })
             .collect();
         let id = self.scene.add_mesh(mesh);
         let entry = (id, materials);
@@ -213,16 +238,26 @@ impl Evaluator {
     /// A scene material for one of an OBJ's material slots.
     fn mesh_material(&mut self, kind: &MeshMaterialKind, dir: &Path, span: Span) -> MaterialId {
         let solid = |ev: &mut Evaluator, c: glam::Vec3| ev.scene.add_texture(Texture::Solid(c));
+        let albedo = |ev: &mut Evaluator, color: glam::Vec3, texture: &Option<PathBuf>| {
+            texture
+                .as_ref()
+                .and_then(|file| ev.mesh_texture(&dir.join(file), span, Encoding::Srgb, COLOUR))
+                .unwrap_or_else(|| solid(ev, color))
+        };
         let material = match kind {
-            MeshMaterialKind::Diffuse { color, texture } => {
-                let albedo = match texture {
-                    Some(file) => self
-                        .mesh_texture(&dir.join(file), span)
-                        .unwrap_or_else(|| solid(self, *color)),
-                    None => solid(self, *color),
-                };
-                Material::Lambertian { albedo }
-            }
+            MeshMaterialKind::Diffuse { color, texture } => Material::Lambertian {
+                albedo: albedo(self, *color, texture),
+            },
+            MeshMaterialKind::Plastic {
+                color,
+                texture,
+                ior,
+                alpha,
+            } => Material::Plastic {
+                albedo: albedo(self, *color, texture),
+                ior: *ior,
+                alpha: *alpha,
+            },
             MeshMaterialKind::Metal { color, fuzz } => Material::Metal {
                 albedo: solid(self, *color),
                 fuzz: *fuzz,
@@ -236,17 +271,54 @@ impl Evaluator {
         self.scene.add_material(material)
     }
 
-    /// An image named by an MTL file; a failure is a warning (the caller
-    /// falls back to the plain colour).
-    fn mesh_texture(&mut self, full: &Path, span: Span) -> Option<TextureId> {
-        if let Some(&id) = self.caches.images.get(full) {
+    /// `base` under an MTL entry's bump or normal map (both images read as
+    /// data), or `base` itself when there is none or its image does not
+    /// load (a warning).
+    fn mesh_map(&mut self, base: MaterialId, map: Option<&MeshMap>, span: Span) -> MaterialId {
+        let material = match map {
+            None => return base,
+            Some(MeshMap::Bump { file, scale }) => {
+                let Some(height) = self.mesh_texture(file, span, Encoding::Data, UNMAPPED) else {
+                    return base;
+                };
+                Material::Bump {
+                    base,
+                    height,
+                    scale: *scale,
+                }
+            }
+            Some(MeshMap::Normal { file }) => {
+                let Some(map) = self.mesh_texture(file, span, Encoding::Data, UNMAPPED) else {
+                    return base;
+                };
+                Material::NormalMap {
+                    base,
+                    map,
+                    strength: 1.0,
+                }
+            }
+        };
+        self.scene.add_material(material)
+    }
+
+    /// An image named by an MTL file; a failure is a warning that ends with
+    /// `fallback`, what the caller does instead.
+    fn mesh_texture(
+        &mut self,
+        full: &Path,
+        span: Span,
+        encoding: Encoding,
+        fallback: &str,
+    ) -> Option<TextureId> {
+        let key = (full.to_path_buf(), encoding);
+        if let Some(&id) = self.caches.images.get(&key) {
             return Some(id);
         }
         self.charge_image(full, span).ok()?;
-        match self.options.assets.image(full) {
+        match self.options.assets.image_as(full, encoding) {
             Ok(image) => {
-                let id = self.scene.add_texture(Texture::Image(image));
-                self.caches.images.insert(full.to_path_buf(), id);
+                let id = self.scene.add_texture(image_texture(image, encoding));
+                self.caches.images.insert(key, id);
                 Some(id)
             }
             Err(e) => {
@@ -254,7 +326,7 @@ impl Evaluator {
                     Diagnostic::warning(
                         Code::MeshWarning,
                         span,
-                        format!("{e}; using the material's colour"),
+                        format!("{e}; {fallback}"),
                     )
                     .label("in this mesh's materials")
                     .help(
@@ -264,5 +336,18 @@ impl Evaluator {
                 None
             }
         }
+    }
+}
+
+/// What a mesh does when its colour texture does not load.
+const COLOUR: &str = "using the material's colour";
+/// What a mesh does when its bump or normal map does not load.
+const UNMAPPED: &str = "the surface stays unmapped";
+
+/// The texture of an image decoded by `encoding`.
+fn image_texture(image: std::sync::Arc<ImageData>, encoding: Encoding) -> Texture {
+    match encoding {
+        Encoding::Srgb => Texture::Image(image),
+        Encoding::Data => Texture::Data(image),
     }
 }

@@ -19,7 +19,7 @@ use crate::lang::names;
 use crate::lang::pretty;
 use crate::lang::source::Span;
 use crate::scene::texture::CheckerSpace;
-use crate::scene::{Environment, Material, Texture};
+use crate::scene::{Encoding, Environment, Material, Texture};
 
 /// Whether `name` is a built-in function.
 pub fn is_function(name: &str) -> bool {
@@ -262,7 +262,12 @@ impl Evaluator {
         }
     }
 
-    fn keyword_num(&mut self, a: &mut Args, name: &str, default: f64) -> Eval<(f64, Span)> {
+    pub(super) fn keyword_num(
+        &mut self,
+        a: &mut Args,
+        name: &str,
+        default: f64,
+    ) -> Eval<(f64, Span)> {
         match a.keyword(name) {
             Some((v, s)) => Ok((self.num(&v, s)?, s)),
             None => Ok((default, Span::default())),
@@ -367,7 +372,12 @@ impl Evaluator {
     pub(crate) fn image_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {
         let (v, s) = a.positional[0].clone();
         let path = self.string(&v, s)?;
-        Ok(Value::Texture(self.image_texture(&path, s)?))
+        let encoding = if self.keyword_bool(a, "raw", false)? {
+            Encoding::Data
+        } else {
+            Encoding::Srgb
+        };
+        Ok(Value::Texture(self.image_texture(&path, s, encoding)?))
     }
 
     pub(crate) fn noise_call(&mut self, a: &mut Args, _: Span) -> Eval<Value> {

@@ -23,6 +23,7 @@ mod functions;
 mod issue;
 mod lamps;
 mod limits;
+mod maps;
 mod math;
 mod motion;
 mod objects;
@@ -218,7 +219,7 @@ pub(crate) struct Evaluator {
 /// Everything loaded or built once and shared.
 #[derive(Clone, Default)]
 struct Caches {
-    images: HashMap<PathBuf, TextureId>,
+    images: HashMap<(PathBuf, crate::scene::Encoding), TextureId>,
     environments: HashMap<PathBuf, Arc<ImageData>>,
     meshes: HashMap<PathBuf, (MeshId, Vec<MaterialId>)>,
     protos: HashMap<usize, ProtoId>,
@@ -299,12 +300,13 @@ fn evaluate_here(path: &Path, options: &Options) -> Outcome {
         d.notes.extend(n);
     }
     let failed = ev.diagnostics.iter().any(Diagnostic::is_error);
-    let mut assets: Vec<PathBuf> = (ev.caches.images.keys())
+    let mut assets: Vec<PathBuf> = (ev.caches.images.keys().map(|(path, _)| path))
         .chain(ev.caches.environments.keys())
         .chain(ev.caches.meshes.keys())
         .cloned()
         .collect();
     assets.sort();
+    assets.dedup();
     let values = ev
         .defs
         .iter()
