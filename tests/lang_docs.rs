@@ -26,7 +26,14 @@ fn assert_examples_clean(doc: &str, min: usize, tag: &str) {
         .filter_map(|b| b.split("```").next())
         .collect();
     assert!(blocks.len() >= min, "only {} examples", blocks.len());
-    let dir = scratch::folder(&format!("docs-{tag}"));
+    // A folder in the repository's root, so that an example's relative
+    // path such as `../textures/porcelain.png` names the repository's file,
+    // as it does from `scenes/`.
+    let dir = tempfile::Builder::new()
+        .prefix(&format!(".rtlang-docs-{tag}-"))
+        .tempdir_in(env!("CARGO_MANIFEST_DIR"))
+        .expect("temp folder");
+    let dir = dir.path();
     for (i, block) in blocks.iter().enumerate() {
         let path = dir.join(format!("example_{i}.rt"));
         std::fs::write(&path, block).expect("write the example");
@@ -54,9 +61,9 @@ fn the_reference_table_lists_exactly_the_builtins() {
     let documented: Vec<&str> = table
         .lines()
         .filter(|l| {
-            ["function", "texture", "material"]
+            ["function", "texture", "material", "object"]
                 .iter()
-                .any(|k| l.contains(&format!(" | {k} | ")))
+                .any(|k| l.contains(&format!(" | {k} | expr | ")))
         })
         .collect();
     let expected: Vec<String> = lang::builtins::TABLE

@@ -19,6 +19,7 @@ pub enum Kind {
     Function,
     Texture,
     Material,
+    Object,
 }
 
 impl Kind {
@@ -28,6 +29,7 @@ impl Kind {
             Kind::Function => "function",
             Kind::Texture => "texture",
             Kind::Material => "material",
+            Kind::Object => "object",
         }
     }
 }
@@ -439,6 +441,16 @@ pub const TABLE: &[Builtin] = &[
         Body::Call(Evaluator::isotropic_call),
         "isotropic(colour or texture)",
         "The phase function of a medium.",
+    ),
+    f(
+        "gltf",
+        Kind::Object,
+        1,
+        1,
+        &[],
+        Body::Call(Evaluator::gltf_call),
+        "gltf(\"scene.glb\")",
+        "The default scene of a glTF 2.0 file (`.gltf` or `.glb`) as one object: its meshes placed by their node transforms with their metallic-roughness materials, and its punctual lights as lamps; place it with `place gltf(\"scene.glb\") { transforms }` (see the glTF section).",
     ),
     f(
         "normal_map",

@@ -157,6 +157,7 @@ block! { CAMERA = "camera" in camera {
     FOV = prop("fov", "degrees", "the vertical field of view", "35");
     APERTURE = prop("aperture", "number ≥ 0", "the lens diameter (0 is a pinhole)", "0.2");
     FOCUS = prop("focus", "number > 0", "the distance in focus", "4");
+    GLTF = prop("gltf", "string", "a .gltf or .glb file whose first perspective camera sets `from`, `at`, `up` and `fov` (each may still be given)", "\"scene.glb\"");
 }}
 
 /// Every block with properties.

@@ -112,6 +112,36 @@ impl ImageData {
         }
     }
 
+    /// The width and height of encoded image bytes (a PNG or JPEG held
+    /// inside another file), from their header.
+    pub fn bytes_dimensions(bytes: &[u8]) -> Option<(u32, u32)> {
+        header_size(Cursor::new(bytes)).ok()
+    }
+
+    /// Decodes encoded image bytes (a PNG or JPEG held inside another
+    /// file, `shown` naming it in errors) as [`ImageData::load_as`] decodes
+    /// a file.
+    pub fn from_bytes(
+        bytes: &[u8],
+        shown: &str,
+        encoding: Encoding,
+    ) -> Result<ImageData, ImageLoadError> {
+        let decode = |message: String| ImageLoadError::Decode {
+            path: shown.to_string(),
+            message,
+        };
+        let size = header_size(Cursor::new(bytes)).map_err(|e| decode(e.to_string()))?;
+        let rgb = decode_sized(bytes, size)
+            .map_err(|e| decode(e.to_string()))?
+            .to_rgb8();
+        if rgb.width() == 0 || rgb.height() == 0 {
+            return Err(ImageLoadError::Empty {
+                path: shown.to_string(),
+            });
+        }
+        Ok(Self::from_rgb8(&rgb, encoding))
+    }
+
     /// Loads a high-dynamic-range image (OpenEXR or Radiance HDR) as the
     /// linear values it holds, which must be finite and non-negative (the
     /// first pixel that is not is reported).
@@ -162,15 +192,21 @@ fn decode(path: &Path) -> Result<(image::DynamicImage, String), ImageLoadError> 
         .saturating_mul(FILE_BYTES_PER_PIXEL)
         .saturating_add(FILE_ALLOWANCE);
     let bytes = file::read_bounded(opened, limit).map_err(io)?;
-    let mut reader = ImageReader::new(Cursor::new(&bytes))
-        .with_guessed_format()
-        .map_err(|e| decode(e.to_string()))?;
+    let decoded = decode_sized(&bytes, (width, height)).map_err(|e| decode(e.to_string()))?;
+    Ok((decoded, shown))
+}
+
+/// Encoded image bytes decoded, refused past `width` × `height` pixels.
+fn decode_sized(
+    bytes: &[u8],
+    (width, height): (u32, u32),
+) -> Result<image::DynamicImage, image::ImageError> {
+    let mut reader = ImageReader::new(Cursor::new(bytes)).with_guessed_format()?;
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(width);
     limits.max_image_height = Some(height);
     reader.limits(limits);
-    let decoded = reader.decode().map_err(|e| decode(e.to_string()))?;
-    Ok((decoded, shown))
+    reader.decode()
 }
 
 /// How an image file's 8-bit values become numbers.

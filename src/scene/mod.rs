@@ -11,6 +11,8 @@ pub mod curve;
 pub mod digest;
 pub mod facing;
 pub mod file;
+pub mod gltf;
+pub mod gltf_mesh;
 pub mod image;
 pub mod light;
 pub mod material;

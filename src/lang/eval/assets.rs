@@ -18,7 +18,7 @@ const HDR_TYPES: &[&str] = &["exr", "hdr"];
 
 impl Evaluator {
     /// Resolves `path` against the directory of the file `span` is in.
-    fn resolve(&self, path: &str, span: Span) -> PathBuf {
+    pub(super) fn resolve(&self, path: &str, span: Span) -> PathBuf {
         let p = Path::new(path);
         if p.is_absolute() {
             p.to_path_buf()
@@ -28,7 +28,13 @@ impl Evaluator {
     }
 
     /// An error unless `path` has one of the `allowed` extensions.
-    fn check_type(&mut self, path: &Path, span: Span, allowed: &[&str], what: &str) -> Eval<()> {
+    pub(super) fn check_type(
+        &mut self,
+        path: &Path,
+        span: Span,
+        allowed: &[&str],
+        what: &str,
+    ) -> Eval<()> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -144,7 +150,7 @@ impl Evaluator {
 
     /// Charges an image file's pixels to the memory budget from its header,
     /// before it is decoded.
-    fn charge_image(&mut self, full: &Path, span: Span) -> Eval<()> {
+    pub(super) fn charge_image(&mut self, full: &Path, span: Span) -> Eval<()> {
         let Some((width, height)) = ImageData::dimensions(full) else {
             return Ok(());
         };
@@ -345,7 +351,7 @@ const COLOUR: &str = "using the material's colour";
 const UNMAPPED: &str = "the surface stays unmapped";
 
 /// The texture of an image decoded by `encoding`.
-fn image_texture(image: std::sync::Arc<ImageData>, encoding: Encoding) -> Texture {
+pub(super) fn image_texture(image: std::sync::Arc<ImageData>, encoding: Encoding) -> Texture {
     match encoding {
         Encoding::Srgb => Texture::Image(image),
         Encoding::Data => Texture::Data(image),

@@ -49,6 +49,11 @@ pub const BYTES_PER_SOURCE_BYTE: f64 = 40.0;
 /// triangles are charged again, per placement, once it is loaded.
 pub const BYTES_PER_OBJ_BYTE: f64 = 32.0;
 
+/// One byte of a glTF file or of its buffers while it is loaded: the
+/// bytes, and the mesh arrays copied out of them (vertex data is copied
+/// about once, with normals and texture coordinates widened to f32).
+pub const BYTES_PER_GLTF_BYTE: f64 = 4.0;
+
 /// One texture image pixel while its file is decoded: the file's bytes,
 /// the decoded and 8-bit RGB copies and the linear `Vec3` kept (12 bytes).
 pub const BYTES_PER_IMAGE_PIXEL: f64 = 32.0;

@@ -20,6 +20,8 @@ mod exprs;
 mod facing;
 mod files;
 mod functions;
+mod gltf;
+mod gltf_materials;
 mod issue;
 mod lamps;
 mod limits;
@@ -222,6 +224,7 @@ struct Caches {
     images: HashMap<(PathBuf, crate::scene::Encoding), TextureId>,
     environments: HashMap<PathBuf, Arc<ImageData>>,
     meshes: HashMap<PathBuf, (MeshId, Vec<MaterialId>)>,
+    gltf: HashMap<PathBuf, gltf::LoadedGltf>,
     protos: HashMap<usize, ProtoId>,
 }
 

@@ -137,7 +137,18 @@ impl Evaluator {
             ..Allow::props(&properties::CAMERA, false)
         };
         let b = self.block(body, &allow);
-        let cam = self.scene.camera;
+        let mut cam = self.scene.camera;
+        if let Ok(Some((v, s))) = self.prop(&b, &camera::GLTF) {
+            let Ok(path) = self.string(&v, s) else {
+                return;
+            };
+            let Ok((from, at, up, fov)) = self.gltf_camera(&path, s) else {
+                return;
+            };
+            (cam.from, cam.at, cam.up, cam.vfov) = (from, at, up, fov);
+            self.scene.camera.up = up;
+            self.scene.camera.vfov = fov;
+        }
         let from = self.prop_vec3(&b, &camera::FROM, cam.from.as_dvec3());
         let at = self.prop_vec3(&b, &camera::AT, cam.at.as_dvec3());
         let up = self.prop_vec3(&b, &camera::UP, cam.up.as_dvec3());
