@@ -18,6 +18,9 @@
 //! Cornell box, whose small lamp gives the scattering strategy a weight near
 //! zero, so that bias is tiny there.
 
+#[path = "support/blocks.rs"]
+mod blocks;
+
 use glam::{Mat4, Vec3};
 use rtlang::geometry::World;
 use rtlang::render::lights::{LightList, LightSelection};
@@ -49,21 +52,7 @@ fn block_means(scene: &Scene, set: impl Fn(&mut RenderOptions)) -> Vec<Vec<f64>>
             set(&mut options);
             let out = render(scene, &world, &options, &|_| {}).expect("renders");
             assert_eq!(out.stats.dropped, 0);
-            let mut blocks = Vec::new();
-            for by in 0..h / BLOCK {
-                for bx in 0..w / BLOCK {
-                    for c in 0..3 {
-                        let mut sum = 0.0f64;
-                        for y in by * BLOCK..(by + 1) * BLOCK {
-                            for x in bx * BLOCK..(bx + 1) * BLOCK {
-                                sum += out.pixels[(y * w + x) as usize][c] as f64;
-                            }
-                        }
-                        blocks.push(sum / (BLOCK * BLOCK) as f64);
-                    }
-                }
-            }
-            blocks
+            blocks::block_means(&out.pixels, w, h, BLOCK)
         })
         .collect()
 }

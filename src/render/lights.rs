@@ -159,6 +159,28 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+/// The world's bounding sphere is clamped to this radius: a world this
+/// large is unbounded (it holds a plane).
+const UNBOUNDED: f32 = 1e18;
+
+/// The radius over which the distant lights' power is measured: that of
+/// the world's bounding sphere, `world`; in an unbounded world, half the
+/// diagonal of the box around the frame's origin (the camera, for a
+/// render) and every light that is not distant, since an unbounded radius
+/// would leave those lights no share of a choice by power.
+fn distant_radius(world: f32, lights: &[Light], lamps: &[LampLight]) -> f64 {
+    if world < UNBOUNDED {
+        return f64::from(world);
+    }
+    let finite = lights.iter().map(|l| l.bounds(0.0));
+    let (min, max) = finite
+        .chain(lamps.iter().filter_map(|l| l.bounds(0.0)))
+        .fold((DVec3::ZERO, DVec3::ZERO), |(lo, hi), b| {
+            (lo.min(b.min), hi.max(b.max))
+        });
+    (0.5 * (max - min).length()).max(f64::MIN_POSITIVE)
+}
+
 /// How next-event estimation chooses among the lights.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightSelection {
@@ -278,7 +300,8 @@ impl LightList {
             .iter()
             .map(|l| f64::from(luminance(l.emit)) * l.shape.area())
             .collect();
-        let lamp_powers: Vec<f64> = lamps.iter().map(|l| l.power(f64::from(reach.1))).collect();
+        let radius = distant_radius(reach.1, &lights, &lamps);
+        let lamp_powers: Vec<f64> = lamps.iter().map(|l| l.power(radius)).collect();
         for p in powers.iter().chain(&lamp_powers) {
             total += p;
             cdf.push(total);
@@ -341,11 +364,11 @@ impl LightList {
             let reach = if bounds.is_empty() {
                 (Vec3::ZERO, 0.0)
             } else {
-                let half = (0.5 * bounds.extent().length()).min(1e18);
+                let half = (0.5 * bounds.extent().length()).min(UNBOUNDED);
                 (
                     bounds
                         .centroid()
-                        .clamp(Vec3::splat(-1e18), Vec3::splat(1e18)),
+                        .clamp(Vec3::splat(-UNBOUNDED), Vec3::splat(UNBOUNDED)),
                     half,
                 )
             };

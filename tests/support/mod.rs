@@ -1,6 +1,7 @@
 //! Code shared by the robustness tests and the fuzz targets.
 #![allow(dead_code)]
 
+pub mod blocks;
 pub mod defines;
 pub mod gen;
 pub mod lsp;

@@ -19,7 +19,7 @@ impl Evaluator {
     }
 
     /// An angle property in degrees within `[lo, hi]` (`lo` itself only
-    /// if `lo_ok`), in radians.
+    /// if `lo_ok`).
     fn lamp_angle(
         &mut self,
         b: &Block,
@@ -40,7 +40,7 @@ impl Evaluator {
             ),
             help,
         )?;
-        Ok(d.to_radians())
+        Ok(d)
     }
 
     pub(super) fn sun(&mut self, b: &Block) -> Eval<Node> {
@@ -62,7 +62,7 @@ impl Evaluator {
         Ok(Node::Lamp(Lamp::Sun {
             direction: direction.as_vec3(),
             irradiance,
-            diameter: diameter as f32,
+            diameter: diameter.to_radians() as f32,
         }))
     }
 
@@ -96,16 +96,16 @@ impl Evaluator {
         let beam = self.lamp_angle(
             b,
             &spot_light::FALLOFF,
-            0.75 * cutoff.to_degrees(),
-            (0.0, true, cutoff.to_degrees()),
+            0.75 * cutoff,
+            (0.0, true, cutoff),
             "the falloff is the half angle of full light, at most `angle`, e.g. `falloff 25`",
         )?;
         Ok(Node::Lamp(Lamp::Spot {
             at: at.as_vec3(),
             to: to.as_vec3(),
             intensity,
-            cutoff: cutoff as f32,
-            beam: beam as f32,
+            cutoff: cutoff.to_radians() as f32,
+            beam: beam.to_radians() as f32,
         }))
     }
 }
