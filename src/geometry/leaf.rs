@@ -5,9 +5,10 @@
 //! order (no fused multiply-add, as the scalar code has none), so a lane it
 //! rejects is one the scalar test would reject. A sphere leaf then finds
 //! the roots of all four lanes the same way, and the kept lanes choose
-//! their root in slot order; a triangle leaf's kept lanes run the whole
-//! scalar test in slot order. Either decides the hit exactly as the scalar
-//! tests do, bit for bit, ties included.
+//! their root in slot order; a triangle leaf runs the whole watertight test
+//! in the pass and leaves to the scalar test only the lanes that take its
+//! f64 paths. Either decides the hit exactly as the scalar tests do, bit
+//! for bit, ties included.
 
 use glam::Vec3;
 use wide::{f32x4, CmpEq, CmpGt, CmpLt, CmpNe};
