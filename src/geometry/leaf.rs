@@ -5,16 +5,17 @@
 //! order (no fused multiply-add, as the scalar code has none), so a lane it
 //! rejects is one the scalar test would reject. A sphere leaf then finds
 //! the roots of all four lanes the same way, and the kept lanes choose
-//! their root in slot order; a triangle leaf's kept lanes run the whole
-//! scalar test in slot order. Either decides the hit exactly as the scalar
-//! tests do, bit for bit, ties included.
+//! their root in slot order; a triangle leaf runs the whole watertight test
+//! in the pass and leaves to the scalar test only the lanes that take its
+//! f64 paths. Either decides the hit exactly as the scalar tests do, bit
+//! for bit, ties included.
 
 use glam::Vec3;
-use wide::{f32x4, CmpEq, CmpGt, CmpLt};
+use wide::{f32x4, CmpEq, CmpGt, CmpLt, CmpNe};
 
 use super::bvh::bits;
 use super::shapes::sphere::{Roots, MISS_MARGIN};
-use super::shapes::triangle::ShearedRay;
+use super::shapes::triangle::{ShearedRay, TriangleHit};
 use super::shapes::Sphere;
 use super::{Bvh, Ray};
 
@@ -233,23 +234,65 @@ impl TriangleLeaf {
         }
     }
 
-    /// The lanes whose triangle the watertight test's coverage step
-    /// ([`ShearedRay::intersect`]) does not reject: edge functions of mixed
-    /// signs reject; a zero one (decided there in f64) or a NaN keeps the
-    /// lane for the scalar test.
-    #[inline]
-    pub fn candidates(&self, ray: &ShearedRay) -> u32 {
-        let [rx, ry, _] = ray.rows;
+    /// The nearest lane hit with `t` in `(t_min, t_max)` and its hit, as
+    /// `scalar(lane, t_max)` (the lane's [`ShearedRay::intersect`]) run on
+    /// every lane in order finds it (the lowest lane wins a tie): the whole
+    /// test runs four lanes at once, and `scalar` only on the rare lanes the
+    /// pass leaves to it.
+    #[inline(always)]
+    pub fn nearest(
+        &self,
+        ray: &ShearedRay,
+        t_min: f32,
+        t_max: f32,
+        mut scalar: impl FnMut(usize, f32) -> Option<TriangleHit>,
+    ) -> Option<(usize, TriangleHit)> {
+        let (mut found, rest) = self.pass(ray, t_min, t_max);
+        for lane in bits(rest) {
+            if let Some(h) = scalar(lane, t_max) {
+                if found.is_none_or(|(k, f)| (h.t, lane) < (f.t, k)) {
+                    found = Some((lane, h));
+                }
+            }
+        }
+        found
+    }
+
+    /// Whether some lane is hit with `t` in `(t_min, t_max)`, as
+    /// [`TriangleLeaf::nearest`] decides it.
+    #[inline(always)]
+    pub fn any(
+        &self,
+        ray: &ShearedRay,
+        t_min: f32,
+        t_max: f32,
+        mut scalar: impl FnMut(usize, f32) -> bool,
+    ) -> bool {
+        let (found, rest) = self.pass(ray, t_min, t_max);
+        found.is_some() || bits(rest).any(|lane| scalar(lane, t_max))
+    }
+
+    /// The whole watertight test ([`ShearedRay::intersect`]) of the four
+    /// lanes at once, operation for operation the scalar one: the nearest
+    /// lane hit with `t` in `(t_min, t_max)` (the lowest lane on a tie, as
+    /// the scalar loop in slot order keeps), and the lanes this pass leaves
+    /// to the scalar test, which takes another path there: an edge function
+    /// of exactly zero (decided in f64) or a product that overflows f32.
+    #[inline(always)]
+    fn pass(
+        &self,
+        ray: &ShearedRay,
+        t_min: f32,
+        t_max: f32,
+    ) -> (Option<(usize, TriangleHit)>, u32) {
+        let [rx, ry, rz] = ray.rows;
         let o = ray.origin.to_array().map(f32x4::splat);
         let row = |r: Vec3| r.to_array().map(f32x4::splat);
-        let (rx, ry) = (row(rx), row(ry));
+        let (rx, ry, rz) = (row(rx), row(ry), row(rz));
         // `row.dot(vertex - origin)` as glam writes it, per vertex.
-        let xy = self.v.map(|p| {
-            let rel = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
-            let dot = |r: &[f32x4; 3]| r[0] * rel[0] + r[1] * rel[1] + r[2] * rel[2];
-            (dot(&rx), dot(&ry))
-        });
-        let [a, b, c] = xy;
+        let rel = self.v.map(|p| [p[0] - o[0], p[1] - o[1], p[2] - o[2]]);
+        let dot = |r: &[f32x4; 3], q: &[f32x4; 3]| r[0] * q[0] + r[1] * q[1] + r[2] * q[2];
+        let [a, b, c] = rel.map(|q| (dot(&rx, &q), dot(&ry, &q)));
         let u = c.0 * b.1 - c.1 * b.0;
         let v = a.0 * c.1 - a.1 * c.0;
         let w = b.0 * a.1 - b.1 * a.0;
@@ -257,8 +300,35 @@ impl TriangleLeaf {
         let exact = u.cmp_eq(zero) | v.cmp_eq(zero) | w.cmp_eq(zero);
         let neg = u.cmp_lt(zero) | v.cmp_lt(zero) | w.cmp_lt(zero);
         let pos = u.cmp_gt(zero) | v.cmp_gt(zero) | w.cmp_gt(zero);
-        let rejected = (neg & pos).move_mask() as u32 & !(exact.move_mask() as u32);
-        !rejected & self.used
+        let covered = !(neg & pos);
+        let exact_lanes = exact.move_mask() as u32 & self.used;
+        if (covered.move_mask() as u32 | exact_lanes) & self.used == 0 {
+            // Most leaves a ray reaches: no lane covers it.
+            return (None, 0);
+        }
+        let det = u + v + w;
+        let [z0, z1, z2] = rel.map(|q| dot(&rz, &q));
+        let t_scaled = u * z0 + v * z1 + w * z2;
+        let t = t_scaled / det;
+        let finite = t_scaled.abs().cmp_lt(f32x4::splat(f32::INFINITY));
+        let inside = t.cmp_gt(f32x4::splat(t_min)) & t.cmp_lt(f32x4::splat(t_max));
+        let mask = |m: f32x4| m.move_mask() as u32 & self.used;
+        let exact = exact_lanes;
+        let hit = mask(covered & det.cmp_ne(zero) & finite & inside) & !exact;
+        let scalar = exact | (mask(covered & !finite) & !exact);
+        if hit == 0 {
+            return (None, scalar);
+        }
+        let t = t.to_array();
+        let mut lane = hit.trailing_zeros() as usize;
+        for k in bits(hit & (hit - 1)) {
+            if t[k] < t[lane] {
+                lane = k;
+            }
+        }
+        let (u, v, w, det) = (u.to_array(), v.to_array(), w.to_array(), det.to_array());
+        let bary = Vec3::new(u[lane], v[lane], w[lane]) / det[lane];
+        (Some((lane, TriangleHit { t: t[lane], bary })), scalar)
     }
 }
 
@@ -403,16 +473,19 @@ mod tests {
     }
 
     /// Triangles sharing edges and vertices (a fan), and rays aimed at
-    /// their interiors, edges and vertices and along their planes.
+    /// their interiors, edges and vertices and along their planes, at
+    /// sizes up to where the f32 products overflow: the four-lane test
+    /// finds the scalar loop's nearest lane and hit bit for bit, before
+    /// every end of the ray.
     #[test]
-    fn triangle_leaf_keeps_every_lane_the_scalar_test_hits_and_the_same_nearest() {
+    fn triangle_leaf_finds_the_scalar_loops_nearest_hit_bit_for_bit() {
         let mut r = numbers(5);
-        let (mut hits, mut edge_hits) = (0, 0);
-        for group in 0..300 {
+        let (mut hits, mut edge_hits, mut left, mut huge) = (0, 0, 0, 0);
+        for group in 0..400 {
             let count = 1 + group % LANES;
-            let far = [0.0, 1e3, 1e5][group % 3];
+            let far = [0.0, 1e3, 1e5, 0.0][group % 4];
             let hub = unit(&mut r) * far;
-            let size = [1e-2, 1.0, 30.0][group % 3];
+            let size = [1e-2, 1.0, 30.0, 3e13][group % 4];
             let rim: Vec<Vec3> = (0..=count).map(|_| hub + unit(&mut r) * size).collect();
             let tris: Vec<[Vec3; 3]> = (0..count).map(|i| [hub, rim[i], rim[i + 1]]).collect();
             let leaf = TriangleLeaf::new(&tris);
@@ -436,19 +509,39 @@ mod tests {
                 let from = target + away * size * (1.0 + 10.0 * r());
                 let ray = Ray::new(from, (target - from) * (0.5 + r()), 0.0);
                 let sheared = ShearedRay::new(&ray);
-                let lanes = leaf.candidates(&sheared);
-                assert_eq!(lanes & !all_lanes(count), 0);
                 let test = |i: usize, t_max| sheared.intersect(tris[i], 0.0, t_max);
-                let (scalar, packed, _) =
-                    scalar_and_kept(count, lanes, |h: &TriangleHit| h.t, test, test);
-                assert_eq!(packed, scalar);
-                hits += usize::from(scalar.is_some());
-                edge_hits += usize::from(scalar.is_some() && k % 4 != 0);
+                let scalar = |t_max: f32| {
+                    let mut best: Option<(usize, TriangleHit)> = None;
+                    for i in 0..count {
+                        if let Some(h) = test(i, best.map_or(t_max, |(_, h)| h.t)) {
+                            best = Some((i, h));
+                        }
+                    }
+                    best
+                };
+                let nearest = scalar(f32::INFINITY);
+                let ends = match nearest {
+                    Some((_, h)) => vec![f32::INFINITY, h.t.next_up(), h.t],
+                    None => vec![f32::INFINITY],
+                };
+                for t_max in ends {
+                    let bits = |f: Option<(usize, TriangleHit)>| {
+                        f.map(|(i, h)| (i, h.t.to_bits(), h.bary.to_array().map(f32::to_bits)))
+                    };
+                    let packed = leaf.nearest(&sheared, 0.0, t_max, |i, t_max| {
+                        left += 1;
+                        test(i, t_max)
+                    });
+                    assert_eq!(bits(packed), bits(scalar(t_max)), "t_max {t_max}");
+                }
+                hits += usize::from(nearest.is_some());
+                edge_hits += usize::from(nearest.is_some() && k % 4 != 0);
+                huge += usize::from(nearest.is_some() && group % 4 == 3);
             }
         }
         assert!(
-            hits > 8000 && edge_hits > 5000,
-            "{hits} hits, {edge_hits} on edges"
+            hits > 10000 && edge_hits > 7000 && huge > 2000 && left > 1000,
+            "{hits} hits, {edge_hits} on edges, {huge} huge, {left} lanes left to the scalar test"
         );
     }
 

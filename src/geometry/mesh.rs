@@ -9,8 +9,8 @@ use glam::{Vec2, Vec3};
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::leaf::{all_lanes, slots, Packs, TriangleLeaf};
-use super::shapes::triangle::{unit_normal, ShearedRay};
+use super::leaf::{Packs, TriangleLeaf};
+use super::shapes::triangle::{unit_normal, ShearedRay, TriangleHit};
 use super::shapes::ShapeHit;
 use super::tangents::{self, Tangents};
 use super::{Aabb, Bvh, Ray};
@@ -95,20 +95,38 @@ impl MeshGeometry {
             + self.leaves.memory()
     }
 
-    /// Whether any triangle is hit with `t` in `(t_min, t_max)`; only the
-    /// coverage test runs, no surface data is looked up.
+    /// The scalar watertight test of the triangle in leaf slot `slot`.
+    #[inline(always)]
+    fn test(
+        &self,
+        sheared: &ShearedRay,
+        slot: usize,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<TriangleHit> {
+        let idx = self.slot_triangles[slot];
+        sheared.intersect(idx.map(|i| self.data.positions[i as usize]), t_min, t_max)
+    }
+
+    /// Whether any triangle is hit with `t` in `(t_min, t_max)`: the walk
+    /// ends at the first leaf with a hit, and no surface data is built.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         // Built at the first leaf: most rays that miss never reach one.
         let mut sheared = None;
-        let pos = &self.data.positions;
-        self.bvh.traverse_any(ray, t_max, |slot, t_max| {
-            let idx = self.slot_triangles[slot];
-            sheared
-                .get_or_insert_with(|| ShearedRay::new(ray))
-                .intersect(idx.map(|i| pos[i as usize]), t_min, t_max)
-                .is_some()
-        })
+        self.bvh.traverse_any_leaves(
+            ray,
+            t_max,
+            #[inline(always)]
+            |first, count, t_max| {
+                let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
+                let scalar = |lane, t_max| self.test(sheared, first + lane, t_min, t_max).is_some();
+                match self.leaves.get(first) {
+                    Some(leaf) => leaf.any(sheared, t_min, t_max, scalar),
+                    None => (0..count).any(|lane| scalar(lane, t_max)),
+                }
+            },
+        )
     }
 
     /// The tangents of the triangle of corners `p` and vertex indices
@@ -128,23 +146,25 @@ impl MeshGeometry {
         let mut sheared = None;
         let pos = &self.data.positions;
         let mut best = None;
-        self.bvh
-            .traverse_leaves(ray, t_max, |first, count, mut t_max| {
+        self.bvh.traverse_leaves(
+            ray,
+            t_max,
+            #[inline(always)]
+            |first, count, t_max| {
                 let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
-                let mut found = None;
-                let lanes = self
-                    .leaves
-                    .get(first)
-                    .map_or(all_lanes(count), |leaf| leaf.candidates(sheared));
-                for slot in slots(first, lanes) {
-                    let idx = self.slot_triangles[slot];
-                    if let Some(h) = sheared.intersect(idx.map(|i| pos[i as usize]), t_min, t_max) {
-                        best = Some((slot, h));
-                        (t_max, found) = (h.t, Some(h.t));
-                    }
-                }
-                found
-            });
+                let scalar = |lane, t_max| self.test(sheared, first + lane, t_min, t_max);
+                let found = match self.leaves.get(first) {
+                    Some(leaf) => leaf.nearest(sheared, t_min, t_max, scalar),
+                    None => (0..count).fold(None, |best, lane| {
+                        let limit = best.map_or(t_max, |(_, h): (usize, TriangleHit)| h.t);
+                        scalar(lane, limit).map(|h| (lane, h)).or(best)
+                    }),
+                };
+                let (lane, h) = found?;
+                best = Some((first + lane, h));
+                Some(h.t)
+            },
+        );
         let (slot, h) = best?;
         let tri = self.order[slot];
         let idx = self.slot_triangles[slot].map(|i| i as usize);

@@ -360,7 +360,26 @@ impl Bvh {
     /// the first hit. With no hit it visits exactly the leaves
     /// [`Bvh::traverse`] visits (neither narrows `t_max` on a miss).
     #[inline]
-    pub fn traverse_any(&self, ray: &Ray, t_max: f32, hit: impl FnMut(usize, f32) -> bool) -> bool {
+    pub fn traverse_any(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut hit: impl FnMut(usize, f32) -> bool,
+    ) -> bool {
+        self.traverse_any_leaves(ray, t_max, |first, count, t_max| {
+            (first..first + count).any(|slot| hit(slot, t_max))
+        })
+    }
+
+    /// [`Bvh::traverse_any`] a leaf at a time: `hit(first, count, t_max)`
+    /// says whether one of the leaf's slots `first..first + count` is hit.
+    #[inline]
+    pub fn traverse_any_leaves(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        hit: impl FnMut(usize, usize, f32) -> bool,
+    ) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
@@ -382,18 +401,18 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_max: f32,
-        hit: impl FnMut(usize, f32) -> bool,
+        hit: impl FnMut(usize, usize, f32) -> bool,
     ) -> bool {
         self.walk_any::<true>(ray, t_max, hit)
     }
 
-    /// The any-hit walk of [`Bvh::traverse_any`] over a non-empty tree.
+    /// The any-hit walk of [`Bvh::traverse_any_leaves`] over a non-empty tree.
     #[inline(always)]
     fn walk_any<const AVX: bool>(
         &self,
         ray: &Ray,
         t_max: f32,
-        mut hit: impl FnMut(usize, f32) -> bool,
+        mut hit: impl FnMut(usize, usize, f32) -> bool,
     ) -> bool {
         let box_ray = BoxRay::new(ray);
         let mut stack = ArrayVec::<u32, STACK>::new();
@@ -413,7 +432,7 @@ impl Bvh {
                     continue;
                 }
                 let (first, count) = leaf_range(word);
-                if (first..first + count).any(|slot| hit(slot, t_max)) {
+                if hit(first, count, t_max) {
                     return true;
                 }
             }
@@ -664,9 +683,11 @@ mod tests {
                 assert_eq!(visits(true), visits(false));
                 let any = |use_avx: bool, t_max: f32| {
                     let mut seen = Vec::new();
-                    let hit = |slot: usize, _| {
-                        seen.push(slot);
-                        slot.is_multiple_of(7)
+                    let hit = |first: usize, count: usize, _| {
+                        (first..first + count).any(|slot| {
+                            seen.push(slot);
+                            slot.is_multiple_of(7)
+                        })
                     };
                     let found = if use_avx {
                         // SAFETY: as above.
