@@ -33,13 +33,22 @@ const SPP: u32 = 256;
 const PASSES: u64 = 8;
 const PASS_SEED: u64 = 1000;
 const THUMB_SEED: u64 = 7;
-/// 64 blocks × 3 channels per scene, 8 scenes: with Gaussian block means a
+/// 64 blocks × 3 channels per scene, 10 scenes: with Gaussian block means a
 /// clean scene exceeds 5 σ anywhere with probability about 1e-3.
 const Z_MAX: f32 = 5.0;
 /// Bound on the mean z² over the 64 blocks of one channel: a bias spread
 /// over many blocks, each within `Z_MAX`, still fails. Clean, the mean is
 /// about 1 ± 0.18 (χ² with 64 degrees of freedom over 64), so 2 is 5.6 σ.
 const MEAN_Z2_MAX: f32 = 2.0;
+/// Scenes whose thumbnails are checked for diagnostics only. In
+/// `materials.rt` the sun's caustics through the rough glass reach the
+/// floor by BSDF sampling alone; at 64² and 256 spp a block's mean is
+/// heavy-tailed, not Gaussian, and the z-test misjudges it whichever the
+/// sampler (measured: thumbnail seed 7 gives Sobol' a mean z² of 31 and
+/// independent 0.9; seed 8 gives independent 37 and Sobol' 1.4; seed 9
+/// both below 4). Its materials and lights are checked by
+/// `tests/render_lights.rs`, the BSDF tests and the Mitsuba twins.
+const HEAVY_TAILED: &[&str] = &["materials"];
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -200,6 +209,9 @@ fn every_scene_checks_clean_and_matches_its_reference_thumbnail() {
                 outcome.diagnostics.len(),
                 outcome.diagnostics[0].message
             ));
+            continue;
+        }
+        if HEAVY_TAILED.contains(&name.as_str()) {
             continue;
         }
         if blessing {
