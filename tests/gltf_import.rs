@@ -359,7 +359,7 @@ fn hostile_files_are_diagnostics() {
 }
 
 #[test]
-fn lines_warn_and_textures_that_fail_fall_back_to_their_factor() {
+fn lines_and_unread_extensions_warn_and_failed_textures_use_their_factor() {
     let (scene, d) = broken(|j| {
         let prim = j["meshes"][0]["primitives"][0].clone();
         let mut lines = prim.clone();
@@ -368,8 +368,15 @@ fn lines_warn_and_textures_that_fail_fall_back_to_their_factor() {
         j["images"] = json!([{ "uri": "gone.png" }]);
         j["textures"] = json!([{ "source": 0 }]);
         j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
+        j["extensionsUsed"] = json!(["KHR_lights_punctual", "KHR_texture_transform"]);
     });
     assert!(d.iter().all(|(e, _, _)| !e), "{d:?}");
+    let unread: Vec<_> = d
+        .iter()
+        .filter(|(_, _, m)| m.contains("does not read"))
+        .collect();
+    assert_eq!(unread.len(), 1, "{d:?}");
+    assert!(unread[0].2.contains("KHR_texture_transform"), "{d:?}");
     assert!(d
         .iter()
         .any(|(_, c, m)| c == "rtlang::mesh-warning" && m.contains("not triangles")));

@@ -163,9 +163,17 @@ pub fn load_gltf(path: &Path, limit: u64) -> Result<GltfFile, GltfError> {
             name: name.to_string(),
         });
     }
+    // An extension the file uses without requiring it may change how it
+    // looks (KHR_texture_transform, KHR_materials_*): it loads, with a word.
+    let warnings = document
+        .extensions_used()
+        .filter(|n| !SUPPORTED.contains(n))
+        .map(|n| format!("the file uses the extension {n}, which rtlang does not read"))
+        .collect();
     let document = gltf::Document::from_json(document.into_json()).map_err(parse)?;
     let mut out = GltfFile {
         bytes: bytes.len() as u64,
+        warnings,
         ..GltfFile::default()
     };
     let dir = path.parent().unwrap_or(Path::new("."));
