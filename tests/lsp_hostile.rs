@@ -11,7 +11,9 @@ use support::lsp::{at, uri_of, Client};
 /// The error of a response, which must have a `null` id.
 fn null_id_error(message: &Value) -> i64 {
     assert_eq!(message["id"], Value::Null, "{message}");
-    message["error"]["code"].as_i64().expect("an error code")
+    message["error"]["code"]
+        .as_i64()
+        .unwrap_or_else(|| panic!("no error code in {message}"))
 }
 
 #[test]
