@@ -24,27 +24,21 @@ use crate::scene::{Material, MaterialId, Scene};
 /// frame. A plastic reads its coat's tables from `coats`.
 #[inline]
 pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf<'a> {
-    match *scene.material(hit.material) {
+    let p = hit.point + frame;
+    let (base, normal) = match *scene.material(hit.material) {
         Material::NormalMap {
             base,
             map,
             strength,
-        } => {
-            let p = hit.point + frame;
-            let normal = maps::normal_mapped(scene, hit, wo, p, map, strength);
-            surface(scene, coats, base, hit, normal, frame)
-        }
+        } => (base, maps::normal_mapped(scene, hit, wo, p, map, strength)),
         Material::Bump {
             base,
             height,
             scale,
-        } => {
-            let p = hit.point + frame;
-            let normal = maps::bumped(scene, hit, wo, p, height, scale);
-            surface(scene, coats, base, hit, normal, frame)
-        }
-        _ => surface(scene, coats, hit.material, hit, hit.normal, frame),
-    }
+        } => (base, maps::bumped(scene, hit, wo, p, height, scale)),
+        _ => (hit.material, hit.normal),
+    };
+    surface(scene, coats, base, hit, normal, frame)
 }
 
 /// The scattering of the material `id` at `hit` with shading normal
