@@ -52,19 +52,32 @@ pub fn derivative(points: &[DVec2], s: f64) -> DVec2 {
 /// The point and derivative at `s` in one de Casteljau pass: the last two
 /// intermediate points give the tangent, scaled by the degree.
 pub fn point_and_derivative(points: &[DVec2], s: f64) -> (DVec2, DVec2) {
-    let n = points.len();
-    let mut w: [DVec2; 16] = [DVec2::ZERO; 16];
-    let mut heap;
-    let work: &mut [DVec2] = if n <= 16 {
-        w[..n].copy_from_slice(points);
-        &mut w[..n]
-    } else {
-        heap = points.to_vec();
-        &mut heap
-    };
-    if n == 1 {
-        return (work[0], DVec2::ZERO);
+    // The common degrees get a fixed-size copy the compiler unrolls; the
+    // arithmetic is the same in every branch.
+    match points.len() {
+        1 => (points[0], DVec2::ZERO),
+        2 => casteljau::<2>(points.try_into().unwrap(), s),
+        3 => casteljau::<3>(points.try_into().unwrap(), s),
+        4 => casteljau::<4>(points.try_into().unwrap(), s),
+        5 => casteljau::<5>(points.try_into().unwrap(), s),
+        n if n <= 16 => {
+            let mut work = [DVec2::ZERO; 16];
+            work[..n].copy_from_slice(points);
+            casteljau_in(&mut work[..n], s)
+        }
+        _ => casteljau_in(&mut points.to_vec(), s),
     }
+}
+
+#[inline(always)]
+fn casteljau<const N: usize>(mut work: [DVec2; N], s: f64) -> (DVec2, DVec2) {
+    casteljau_in(&mut work, s)
+}
+
+/// De Casteljau in place down to the last two points (`work.len() ≥ 2`).
+#[inline(always)]
+fn casteljau_in(work: &mut [DVec2], s: f64) -> (DVec2, DVec2) {
+    let n = work.len();
     for level in 1..n - 1 {
         for i in 0..n - level {
             work[i] = work[i].lerp(work[i + 1], s);

@@ -37,14 +37,21 @@ pub enum Verdict {
 }
 
 /// Settles the piece with control points `points` over the window's
-/// parameter range, for `t` in the window's `[t0, t1]`.
+/// parameter range, for `t` in the window's `[t0, t1]`; `known` is the
+/// sign pattern of the whole piece, which the caller has computed.
 pub fn settle(
     profile: &Profile,
     weights: &Weights,
     ray: &AxisRay,
     points: &[DVec2],
     w: &Window,
+    known: Signs,
 ) -> Verdict {
+    if known == Signs::One {
+        if let Some(verdict) = one_crossing(profile, ray, points, w) {
+            return verdict;
+        }
+    }
     // (s, t, proven)
     let mut best: Option<(f64, f64, bool)> = None;
     let mut visits = 0;
@@ -59,13 +66,15 @@ pub fn settle(
         let Some(entry) = bounds.intervals(ray, w.t0, limit).first_entry() else {
             continue;
         };
-        match signs(ray, &pts, weights) {
+        let pattern = if visits == 1 {
+            known
+        } else {
+            signs(ray, &pts, weights)
+        };
+        match pattern {
             Signs::Free => continue,
             Signs::One => {
-                let root = bracketed_root(profile, ray, (a, b), 1e-3 * w.tolerance)
-                    .map(|s| (s, ray_distance(profile, ray, s)))
-                    .filter(|&(s, t)| residual(profile, ray, s, t) <= w.tolerance);
-                if let Some((s, t)) = root {
+                if let Some((s, t)) = located(profile, ray, (a, b), w.tolerance) {
                     if t >= w.t0 && t <= limit {
                         best = Some((s, t, true));
                     }
@@ -110,4 +119,33 @@ pub fn settle(
         Some((s, t, true)) => Verdict::Hit { s, t },
         Some((s, t, false)) => Verdict::Unverified(Some((s, t))),
     }
+}
+
+/// The verdict on a whole piece known to hold exactly one crossing — the
+/// first visit of [`settle`]'s walk, without its allocations — or `None`
+/// where the crossing cannot be located and the walk must subdivide.
+fn one_crossing(profile: &Profile, ray: &AxisRay, points: &[DVec2], w: &Window) -> Option<Verdict> {
+    let bounds = AnnularBox::of_control_points(points, 0.0);
+    if bounds.intervals(ray, w.t0, w.t1).first_entry().is_none() {
+        return Some(Verdict::Miss);
+    }
+    let (s, t) = located(profile, ray, (w.s0, w.s1), w.tolerance)?;
+    Some(if t >= w.t0 && t <= w.t1 {
+        Verdict::Hit { s, t }
+    } else {
+        Verdict::Miss
+    })
+}
+
+/// The one crossing in `[s0, s1]` and its ray distance, if bracketed and
+/// on the surface to the tolerance.
+fn located(
+    profile: &Profile,
+    ray: &AxisRay,
+    span: (f64, f64),
+    tolerance: f64,
+) -> Option<(f64, f64)> {
+    bracketed_root(profile, ray, span, 1e-3 * tolerance)
+        .map(|s| (s, ray_distance(profile, ray, s)))
+        .filter(|&(s, t)| residual(profile, ray, s, t) <= tolerance)
 }

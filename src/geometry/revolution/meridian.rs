@@ -24,7 +24,7 @@
 
 use glam::DVec2;
 
-use super::newton::residual;
+use super::newton::residual_at;
 use super::profile::Profile;
 use super::shell::AxisRay;
 
@@ -69,18 +69,68 @@ pub enum Signs {
 pub fn signs(ray: &AxisRay, points: &[DVec2], weights: &Weights) -> Signs {
     let n = weights.n;
     debug_assert_eq!(points.len(), n + 1);
-    let (a, bd, dd) = (ray.a, ray.b * ray.dir.y, ray.dir.y * ray.dir.y);
-    let (c, oy) = (ray.c, ray.origin.y);
-    let q = |i: usize, j: usize| {
-        let (ui, uj) = (points[i].y - oy, points[j].y - oy);
-        a * ui * uj + bd * (ui + uj) + dd * (c - points[i].x * points[j].x)
-    };
+    // The common degrees get fixed sizes the compiler unrolls; the
+    // arithmetic is the same in every branch.
+    match n {
+        2 => signs_of::<3>(ray, points.try_into().unwrap(), rows(&weights.w)),
+        3 => signs_of::<4>(ray, points.try_into().unwrap(), rows(&weights.w)),
+        4 => signs_of::<5>(ray, points.try_into().unwrap(), rows(&weights.w)),
+        _ => {
+            let q = polarised(ray, |i| points[i].y - ray.origin.y, |i| points[i].x);
+            pattern((0..=2 * n).map(|k| coefficient(n, k, |i, j| weights.w[i * (n + 1) + j], &q)))
+        }
+    }
+}
+
+/// The weights as `P` rows of `P`.
+fn rows<const P: usize>(w: &[f64]) -> &[[f64; P]; P] {
+    w.as_chunks::<P>().0.try_into().unwrap()
+}
+
+#[inline(always)]
+fn signs_of<const P: usize>(ray: &AxisRay, points: &[DVec2; P], w: &[[f64; P]; P]) -> Signs {
+    let u: [f64; P] = std::array::from_fn(|i| points[i].y - ray.origin.y);
+    let x: [f64; P] = std::array::from_fn(|i| points[i].x);
+    let q = polarised(ray, |i| u[i], |i| x[i]);
+    pattern((0..2 * P - 1).map(|k| coefficient(P - 1, k, |i, j| w[i][j], &q)))
+}
+
+/// The polarised form `q(i, j)` of the control points with heights above
+/// the ray's origin `u` and radii `x`.
+#[inline(always)]
+fn polarised(
+    ray: &AxisRay,
+    u: impl Fn(usize) -> f64,
+    x: impl Fn(usize) -> f64,
+) -> impl Fn(usize, usize) -> f64 {
+    let (a, bd, dd, c) = (ray.a, ray.b * ray.dir.y, ray.dir.y * ray.dir.y, ray.c);
+    move |i, j| {
+        let (ui, uj) = (u(i), u(j));
+        a * ui * uj + bd * (ui + uj) + dd * (c - x(i) * x(j))
+    }
+}
+
+/// The Bernstein coefficient `k` of `h` on a piece of degree `n`.
+#[inline(always)]
+fn coefficient(
+    n: usize,
+    k: usize,
+    weight: impl Fn(usize, usize) -> f64,
+    q: impl Fn(usize, usize) -> f64,
+) -> f64 {
+    let mut sum = 0.0;
+    for i in k.saturating_sub(n)..=k.min(n) {
+        sum += weight(i, k - i) * q(i, k - i);
+    }
+    sum
+}
+
+/// What a sequence of coefficients says by its signs.
+#[inline(always)]
+fn pattern(coefficients: impl Iterator<Item = f64>) -> Signs {
     let (mut first, mut last, mut previous) = (0.0, 0.0, 0.0);
     let (mut changes, mut zero) = (0, false);
-    for k in 0..=2 * n {
-        let coefficient: f64 = (k.saturating_sub(n)..=k.min(n))
-            .map(|i| weights.w[i * (n + 1) + (k - i)] * q(i, k - i))
-            .sum();
+    for (k, coefficient) in coefficients.enumerate() {
         // Zero (or overflowed) coefficients decide nothing.
         let sign = if coefficient == 0.0 || !coefficient.is_finite() {
             0.0
@@ -198,6 +248,6 @@ pub fn ray_distance(profile: &Profile, ray: &AxisRay, s: f64) -> f64 {
     candidates
         .into_iter()
         .filter(|t| t.is_finite())
-        .min_by(|x, y| residual(profile, ray, s, *x).total_cmp(&residual(profile, ray, s, *y)))
+        .min_by(|x, y| residual_at(p, ray, *x).total_cmp(&residual_at(p, ray, *y)))
         .unwrap_or(f64::NAN)
 }

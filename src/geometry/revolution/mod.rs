@@ -119,14 +119,13 @@ impl RevolutionSurface {
             let i = stack[top];
             let limit = best.map_or(t_max as f64, |(_, t)| t);
             let node = &self.shells.nodes[i];
-            let spans = node.bounds().intervals(&axis_ray, t_min, limit);
-            if spans.first_entry().is_none() {
+            if !node.bounds().may_overlap(&axis_ray, t_min, limit) {
                 continue;
             }
             match *node {
-                Node::Leaf { piece, .. } => {
+                Node::Leaf { bounds, piece } => {
                     let piece = &self.shells.pieces[piece as usize];
-                    for (lo, hi) in spans.iter() {
+                    for (lo, hi) in bounds.intervals(&axis_ray, t_min, limit).iter() {
                         let hi = hi.min(best.map_or(hi, |(_, t)| t));
                         if let Some(found) = self.solve_piece(&axis_ray, piece, lo, hi, t_min) {
                             best = Some(found);
@@ -180,13 +179,21 @@ impl RevolutionSurface {
                 outside |= s > piece.s0 && s < piece.s1;
             }
         }
-        match meridian::signs(ray, &piece.points, &self.weights) {
+        let known = meridian::signs(ray, &piece.points, &self.weights);
+        match known {
             Signs::Free => return None,
             Signs::One if outside => return None,
             _ => {}
         }
         window.t0 = lo.max(t_min.next_up());
-        match fallback::settle(&self.profile, &self.weights, ray, &piece.points, &window) {
+        match fallback::settle(
+            &self.profile,
+            &self.weights,
+            ray,
+            &piece.points,
+            &window,
+            known,
+        ) {
             Verdict::Miss => None,
             Verdict::Hit { s, t } => Some((s, t)),
             Verdict::Unverified(found) => {
@@ -200,8 +207,7 @@ impl RevolutionSurface {
     /// interpolated by height, or by radius where the piece is flatter than
     /// it is tall.
     fn start_parameter(&self, ray: &AxisRay, piece: &Piece, t: f64) -> f64 {
-        let a = self.profile.eval(piece.s0).0;
-        let b = self.profile.eval(piece.s1).0;
+        let (a, b) = piece.ends;
         let (dy, dr) = (b.y - a.y, b.x.abs() - a.x.abs());
         let f = if dy.abs() >= dr.abs() && dy != 0.0 {
             (ray.origin.y + t * ray.dir.y - a.y) / dy

@@ -1,6 +1,8 @@
 //! Newton iteration on (curve parameter `s`, ray distance `t`) for
 //! `x(s)² = ρ²(t)` and `y(s) = y(t)`, the seed's system, in `f64`.
 
+use glam::DVec2;
+
 use super::profile::Profile;
 use super::shell::AxisRay;
 
@@ -66,7 +68,11 @@ pub fn solve(
 /// The distance-like residual at `(s, t)`: the height mismatch and the
 /// radius mismatch `|x(s)| − ρ(t)` in object-space units.
 pub fn residual(profile: &Profile, ray: &AxisRay, s: f64, t: f64) -> f64 {
-    let p = profile.eval(s).0;
+    residual_at(profile.eval(s).0, ray, t)
+}
+
+/// The residual at `t` against the profile point `p`.
+pub fn residual_at(p: DVec2, ray: &AxisRay, t: f64) -> f64 {
     let rho = ray.radius2(t).max(0.0).sqrt();
     let dy = (p.y - (ray.origin.y + t * ray.dir.y)).abs();
     dy.max((p.x.abs() - rho).abs())
