@@ -544,3 +544,31 @@ fn degenerate_rays_and_curves_miss_quietly() {
     let ray = Ray::new(Vec3::new(-5.0, 1.0, 0.0), Vec3::X, 0.0);
     assert!(point.intersect(&ray, 0.0, f32::INFINITY).is_none());
 }
+
+#[test]
+fn occlusion_agrees_with_the_nearest_hit_on_every_segment() {
+    let vase = RevolutionSurface::new(&vase(), 50, TOLERANCE);
+    let capsule = RevolutionSurface::new(&capsule(), 20, TOLERANCE);
+    let (mut blocked, mut clear) = (0, 0);
+    for (i, ray) in random_rays(3000, 11).iter().enumerate() {
+        let surface = if i % 2 == 0 { &vase } else { &capsule };
+        // Segments ending before, between and after the hits.
+        for t_max in [0.3, 0.45, 0.55, 0.7, f32::INFINITY] {
+            let nearest = surface.intersect(ray, 1e-4, t_max).is_some();
+            assert_eq!(
+                surface.occluded(ray, 1e-4, t_max),
+                nearest,
+                "ray {i}, t_max {t_max}"
+            );
+            if nearest {
+                blocked += 1;
+            } else {
+                clear += 1;
+            }
+        }
+    }
+    assert!(
+        blocked > 1000 && clear > 1000,
+        "{blocked} blocked, {clear} clear"
+    );
+}

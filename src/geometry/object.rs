@@ -71,7 +71,7 @@ impl Geometry {
             Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
             Geometry::Single(p, _, _) => p.crossing(ray, t_min, t_max).is_some(),
             Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
-            Geometry::Revolution { surface, .. } => surface.intersect(ray, t_min, t_max).is_some(),
+            Geometry::Revolution { surface, .. } => surface.occluded(ray, t_min, t_max),
             Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
             Geometry::Group(g) => g.occluded(ray, t_min, t_max, media),
             Geometry::Medium(m) => {

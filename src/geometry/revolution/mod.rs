@@ -104,6 +104,21 @@ impl RevolutionSurface {
     /// The nearest hit with `t` in `(t_min, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        self.walk(&axis_ray, t_min, t_max, false)
+            .map(|(s, t)| self.hit_at(&axis_ray, s, t))
+    }
+
+    /// Whether the surface has a hit with `t` in `(t_min, t_max)`: the
+    /// walk of [`RevolutionSurface::intersect`], stopped at its first hit,
+    /// which that walk would also find (same order, same limits so far).
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        self.walk(&axis_ray, t_min, t_max, true).is_some()
+    }
+
+    /// The shell tree's walk: the nearest root `(s, t)`, or with `any` the
+    /// first one found.
+    fn walk(&self, axis_ray: &AxisRay, t_min: f32, t_max: f32, any: bool) -> Option<(f64, f64)> {
         if axis_ray.dir == DVec3::ZERO || !(axis_ray.dir.is_finite() && axis_ray.origin.is_finite())
         {
             return None;
@@ -112,35 +127,38 @@ impl RevolutionSurface {
         let mut best: Option<(f64, f64)> = None;
         // The tree is balanced, so its depth is log2 of the piece count and
         // never near the stack's 64 entries.
-        let mut stack = [0usize; 64];
+        let mut stack = [0u32; 64];
         let mut top = 1;
         while top > 0 {
             top -= 1;
-            let i = stack[top];
+            let i = stack[top] as usize;
             let limit = best.map_or(t_max as f64, |(_, t)| t);
             let node = &self.shells.nodes[i];
-            if !node.bounds().may_overlap(&axis_ray, t_min, limit) {
+            if !node.bounds().may_overlap(axis_ray, t_min, limit) {
                 continue;
             }
             match *node {
                 Node::Leaf { bounds, piece } => {
                     let piece = &self.shells.pieces[piece as usize];
-                    for (lo, hi) in bounds.intervals(&axis_ray, t_min, limit).iter() {
+                    for (lo, hi) in bounds.intervals(axis_ray, t_min, limit).iter() {
                         let hi = hi.min(best.map_or(hi, |(_, t)| t));
-                        if let Some(found) = self.solve_piece(&axis_ray, piece, lo, hi, t_min) {
+                        if let Some(found) = self.solve_piece(axis_ray, piece, lo, hi, t_min) {
                             best = Some(found);
                             break;
                         }
                     }
+                    if any && best.is_some() {
+                        break;
+                    }
                 }
                 Node::Inner { right, .. } => {
-                    stack[top] = right as usize;
-                    stack[top + 1] = i + 1;
+                    stack[top] = right;
+                    stack[top + 1] = i as u32 + 1;
                     top += 2;
                 }
             }
         }
-        best.map(|(s, t)| self.hit_at(&axis_ray, s, t))
+        best
     }
 
     /// The nearest root in one piece's `[lo, hi]`: Newton from the entry,
