@@ -161,13 +161,15 @@ impl RevolutionSurface {
         best
     }
 
-    /// The nearest root in one piece's `[lo, hi]`: Newton from the entry,
-    /// the middle and the exit of the span. If none converges in the span,
-    /// the crossing polynomial is asked: a piece it proves free holds no
-    /// root, and neither does one with exactly one crossing that Newton
-    /// found outside the span (a ray leaving the surface finds the point it
-    /// left). Otherwise the fallback settles it; what the fallback cannot
-    /// prove is counted.
+    /// The nearest root in one piece's `[lo, hi]`: Newton from the entry
+    /// of the span. If it does not converge in the span, the crossing
+    /// polynomial is asked: a piece it proves free holds no root, and
+    /// neither does one with exactly one crossing that Newton found outside
+    /// the span (a ray leaving the surface finds the point it left); a
+    /// piece with one crossing otherwise goes to the fallback, which locates
+    /// it. Only where the signs prove nothing does Newton start again from
+    /// the middle and the exit before the fallback settles the piece; what
+    /// the fallback cannot prove is counted.
     fn solve_piece(
         &self,
         ray: &AxisRay,
@@ -187,21 +189,30 @@ impl RevolutionSurface {
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
         };
-        let mut outside = false;
-        for t in [lo, 0.5 * (lo + hi), hi] {
+        // A start's root in the span, or whether it converged outside the
+        // span inside the piece.
+        let start = |t: f64| -> Result<(f64, f64), bool> {
             let s = self.start_parameter(ray, piece, t);
-            if let Some((s, t)) = newton::solve(&self.profile, ray, s, t, &window) {
-                if t > t_min && t <= hi + (hi - lo) * 1e-3 {
-                    return Some((s, t));
-                }
-                outside |= s > piece.s0 && s < piece.s1;
+            let (s, t) = newton::solve(&self.profile, ray, s, t, &window).ok_or(false)?;
+            if t > t_min && t <= hi + (hi - lo) * 1e-3 {
+                return Ok((s, t));
             }
-        }
+            Err(s > piece.s0 && s < piece.s1)
+        };
+        let outside = match start(lo) {
+            Ok(found) => return Some(found),
+            Err(outside) => outside,
+        };
         let known = meridian::signs(ray, &piece.points, &self.weights);
         match known {
             Signs::Free => return None,
             Signs::One if outside => return None,
-            _ => {}
+            Signs::One => {}
+            Signs::Unknown => {
+                if let Ok(found) = start(0.5 * (lo + hi)).or_else(|_| start(hi)) {
+                    return Some(found);
+                }
+            }
         }
         window.t0 = lo.max(t_min.next_up());
         match fallback::settle(
