@@ -4,6 +4,8 @@
 //! inner and an outer coaxial cylinder and two horizontal planes — arranged
 //! in a binary tree, and the exact ray/annular-box test.
 
+use std::cmp::Ordering;
+
 use glam::{DVec2, DVec3};
 
 use super::profile::Profile;
@@ -115,10 +117,11 @@ impl AnnularBox {
 
     /// Whether the ray may be inside the box for some `t` in `[lo, hi]`: a
     /// cheaper test than [`AnnularBox::intervals`] (no divisions, no square
-    /// roots, no inner cylinder) that is true wherever that finds a span,
+    /// roots) that is true wherever that finds a span,
     /// so a walk that prunes by it visits the same leaves in the same order.
     /// The outer cylinder is reached if `ρ²` at the point of `[lo, hi]`
-    /// nearest the ray's closest approach to the axis is within `r_out²`.
+    /// nearest the ray's closest approach to the axis is within `r_out²`;
+    /// the ray stays in the hole if `ρ²` is below `r_in²` at both ends.
     #[inline]
     pub fn may_overlap(&self, ray: &AxisRay, lo: f64, hi: f64) -> bool {
         let (mut lo, mut hi) = (lo, hi);
@@ -142,12 +145,25 @@ impl AnnularBox {
         if ray.t_axis.is_nan() {
             return true;
         }
-        let t = ray.t_axis.max(lo).min(hi);
-        let (near, far) = (ray.a * t * t, 2.0 * ray.b * t);
-        let excess = ray.radius2(t) - r2;
-        let margin = OVERLAP_SLACK * (near + far.abs() + ray.c + r2);
+        // ρ² is convex in t: its least value on [lo, hi] is at the point
+        // nearest the closest approach, its greatest at an end.
+        let beyond = |t: f64, r2: f64| {
+            let (near, far) = (ray.a * t * t, 2.0 * ray.b * t);
+            let margin = OVERLAP_SLACK * (near + far.abs() + ray.c + r2);
+            (ray.radius2(t) - r2, margin)
+        };
+        let (excess, margin) = beyond(ray.t_axis.max(lo).min(hi), r2);
         // NaN passes: only a proven miss prunes.
-        excess.partial_cmp(&margin) != Some(std::cmp::Ordering::Greater)
+        if excess.partial_cmp(&margin) == Some(Ordering::Greater) {
+            return false;
+        }
+        // Inside the inner cylinder at both ends, the ray stays in the hole.
+        let r2 = self.r_in * self.r_in;
+        let hole = |t: f64| {
+            let (excess, margin) = beyond(t, r2);
+            excess.partial_cmp(&-margin) == Some(Ordering::Less)
+        };
+        !(self.r_in > 0.0 && hole(lo) && hole(hi))
     }
 
     /// The (up to two) `t` intervals within `[lo, hi]` where the ray is
@@ -299,15 +315,17 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    /// A box at scale `10^e`, and a ray that passes the outer cylinder at
-    /// radius `r_out (1 + δ)` (grazing it for tiny `δ`), at a height inside
-    /// or outside the slab, from `back` ray lengths away.
+    /// A box at scale `10^e`, and a ray whose closest approach to the axis
+    /// is `r (1 + δ)` with `r` the outer or the inner radius (grazing that
+    /// cylinder for tiny `δ`), at a height inside or outside the slab, from
+    /// `back` ray lengths away.
     fn case(
         e: i32,
         (inner, height): (f64, f64),
-        (delta, azimuth, dy, y): (f64, f64, f64, f64),
+        (inner_side, delta, azimuth, dy, y): (bool, f64, f64, f64, f64),
         (back, window): (f64, f64),
     ) -> (AnnularBox, AxisRay, f64, f64) {
+        let base = if inner_side { inner } else { 1.0 };
         let k = 10f64.powi(e);
         let b = AnnularBox {
             r_in: inner * k,
@@ -317,7 +335,7 @@ mod tests {
         };
         let radial = DVec3::new(azimuth.cos(), 0.0, azimuth.sin());
         let tangent = DVec3::new(-azimuth.sin(), dy, azimuth.cos());
-        let touch = radial * (k * (1.0 + delta)) + DVec3::Y * (y * k);
+        let touch = radial * (k * (base + delta)) + DVec3::Y * (y * k);
         let ray = AxisRay::new(touch - tangent * (back * k), tangent);
         let lo = back * k * (1.0 - window);
         (b, ray, lo, lo + 2.0 * window * back * k + k)
@@ -325,12 +343,14 @@ mod tests {
 
     proptest! {
         /// The cheap test prunes only what the exact one rejects, at any
-        /// scale, for grazing and nearly vertical or horizontal rays.
+        /// scale, for rays grazing either cylinder and nearly vertical or
+        /// horizontal rays.
         #[test]
         fn may_overlap_holds_wherever_intervals_finds_a_span(
             e in -30i32..30,
             shape in (0.0f64..1.0, 0.01f64..10.0),
             pass in (
+                any::<bool>(),
                 prop_oneof![-1e-9f64..1e-9, -1e-15f64..1e-15, -0.5f64..0.5],
                 0.0f64..6.3,
                 prop_oneof![Just(0.0), -1e-12f64..1e-12, -1e3f64..1e3],
@@ -360,5 +380,9 @@ mod tests {
         let through = AxisRay::new(DVec3::new(-5.0, 0.0, 0.99), DVec3::X);
         assert!(b.may_overlap(&through, 0.0, f64::INFINITY));
         assert!(!b.may_overlap(&through, 0.0, 4.0));
+        let in_the_hole = AxisRay::new(DVec3::new(0.1, -5.0, 0.0), DVec3::new(0.01, 1.0, 0.0));
+        assert!(!b.may_overlap(&in_the_hole, 0.0, f64::INFINITY));
+        let out_of_it = AxisRay::new(DVec3::new(0.1, -5.0, 0.0), DVec3::new(0.1, 1.0, 0.0));
+        assert!(b.may_overlap(&out_of_it, 0.0, f64::INFINITY));
     }
 }
