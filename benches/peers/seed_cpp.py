@@ -39,7 +39,7 @@ import time
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
-RTLANG = ROOT / "target" / "release" / "rtlang"
+DEFAULT_RTLANG = ROOT / "target" / "release" / "rtlang"
 
 # name: (rtlang scene file, width, height, spp, the seed's depth, -D overrides).
 # Sizes keep the scene's aspect at 200 px on the longer side. `{tex}` is the
@@ -158,8 +158,8 @@ def run_seed(exe, run, name, w, h, spp, depth, threads, procs, out):
     return secs, wall, cpu, rays / (w * h * spp)
 
 
-def run_rtlang(scene, w, h, spp, depth, threads, defines, rnd, out):
-    cmd = [str(RTLANG), "render", str(ROOT / "scenes" / scene), "--width", str(w),
+def run_rtlang(rtlang, scene, w, h, spp, depth, threads, defines, rnd, out):
+    cmd = [str(rtlang), "render", str(ROOT / "scenes" / scene), "--width", str(w),
            "--height", str(h), "--spp", str(spp), "--max-depth", str(depth),
            "--threads", str(threads), "--integrator", "path", "--quiet",
            "--seed", str(rnd + 1), "-o", str(out)]
@@ -174,7 +174,6 @@ def run_rtlang(scene, w, h, spp, depth, threads, defines, rnd, out):
 
 
 def main():
-    global RTLANG
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seed-src", type=pathlib.Path, required=True,
                     help="a checkout of everaindcy/ComputerGraphics")
@@ -188,7 +187,7 @@ def main():
     ap.add_argument("--seed-mode", choices=["omp", "fork", "both"], default="both",
                     help="the seed's parallelism: OpenMP threads (its main.cc), forked "
                          "processes (its main_multi_process.cc, what it used on Linux), or both")
-    ap.add_argument("--rtlang", type=pathlib.Path, default=RTLANG,
+    ap.add_argument("--rtlang", type=pathlib.Path, default=DEFAULT_RTLANG,
                     help="the rtlang binary (default: target/release/rtlang)")
     ap.add_argument("--idle-wait", type=float, default=120,
                     help="before each render wait up to this many seconds for the machine to be"
@@ -196,14 +195,16 @@ def main():
     ap.add_argument("--spp", type=int, help="samples per pixel for every scene (default: per scene)")
     ap.add_argument("--only", nargs="+", choices=sorted(SCENES), help="these scenes only")
     args = ap.parse_args()
-    RTLANG = args.rtlang.resolve()
-    if not RTLANG.exists():
-        raise SystemExit(f"build rtlang first: {RTLANG} is missing (cargo build --release)")
+    rtlang = args.rtlang.resolve()
+    if not rtlang.exists():
+        raise SystemExit(f"build rtlang first: {rtlang} is missing (cargo build --release)")
 
     seed_src, assets = args.seed_src.resolve(), args.assets.resolve()
     args.work = args.work.resolve()
     exe, run = build(seed_src, args.work)
     names = args.only or list(SCENES)
+    # Each scene's (file, width, height, spp, depth, defines), --spp applied.
+    settings = {n: (f, w, h, args.spp or spp, d, defs) for n, (f, w, h, spp, d, defs) in SCENES.items()}
     if "mesh" in names:
         write_bunny(assets, run)
     fill = {"tex": seed_src / "textures", "assets": assets}
@@ -213,19 +214,18 @@ def main():
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     flags = next((l for l in open("/proc/cpuinfo") if l.startswith("flags")), "").split()
     simd = ", ".join(f for f in ("avx2", "avx512f") if f in flags) or "no AVX2"
-    print(f"rtlang: {RTLANG} (built {time.ctime(RTLANG.stat().st_mtime)})")
+    print(f"rtlang: {rtlang} (built {time.ctime(rtlang.stat().st_mtime)})")
     print(f"CPU: {cpu} ({simd}), {os.cpu_count()} cores; {args.threads} threads (or processes) each;"
           f" rtlang --integrator path; seed-omp = OpenMP threads, seed-fork = forked processes")
 
-    binary = RTLANG.stat().st_mtime
+    binary = rtlang.stat().st_mtime
     cpus, marks = {}, {}
     times = {n: {w: [] for w in who_all} for n in names}
     per_sample = {n: {w: [] for w in who_all} for n in names}
     walls = {n: {w: [] for w in who_all} for n in names}
     for rnd in range(args.rounds):
         for name in names:
-            scene, w, h, spp, depth, defs = SCENES[name]
-            spp = args.spp or spp
+            scene, w, h, spp, depth, defs = settings[name]
             defs = [d.format(**fill) for d in defs]
             k = rnd % len(who_all)  # a different renderer goes first each round
             for who in who_all[k:] + who_all[:k]:
@@ -233,7 +233,7 @@ def main():
                 idle = wait_idle(args.idle_wait) if args.idle_wait > 0 else True
                 marks[who] = "" if idle else "*"
                 if who == "rtlang":
-                    sec, wall, cpu, rps = run_rtlang(scene, w, h, spp, depth, args.threads, defs, rnd, out)
+                    sec, wall, cpu, rps = run_rtlang(rtlang, scene, w, h, spp, depth, args.threads, defs, rnd, out)
                 else:
                     procs = args.threads if who == "seed-fork" else 0
                     sec, wall, cpu, rps = run_seed(exe, run, name, w, h, spp, depth, args.threads, procs, out)
@@ -249,25 +249,18 @@ def main():
           f" printed samples/s, scene parse and BVH build excluded), median of {args.rounds} rounds;"
           f" M samples/s = width·height·spp / time; ratio = rtlang's samples/s over the seed's.")
     head = f"{'scene':14s} {'size':>8s} {'spp':>4s} {'depth':>5s}"
-    for who in who_all:
-        head += f" {who + ' s':>13s}"
-    for who in who_all:
-        head += f" {who + ' Ms/s':>16s}"
-    for who in seeds:
-        head += f" {'rtlang/' + who:>17s}"
+    head += "".join(f" {who + ' s':>13s}" for who in who_all)
+    head += "".join(f" {who + ' Ms/s':>16s}" for who in who_all)
+    head += "".join(f" {'rtlang/' + who:>17s}" for who in seeds)
     print(head)
     for name in names:
-        _, w, h, spp, depth, _ = SCENES[name]
-        spp = args.spp or spp
+        _, w, h, spp, depth, _ = settings[name]
         t = {who: statistics.median(v) for who, v in times[name].items()}
         rate = {who: w * h * spp / t[who] / 1e6 for who in who_all}
         line = f"{name:14s} {f'{w}x{h}':>8s} {spp:4d} {depth:5d}"
-        for who in who_all:
-            line += f" {t[who]:13.3f}"
-        for who in who_all:
-            line += f" {rate[who]:16.3f}"
-        for who in seeds:
-            line += f" {rate['rtlang'] / rate[who]:16.2f}x"
+        line += "".join(f" {t[who]:13.3f}" for who in who_all)
+        line += "".join(f" {rate[who]:16.3f}" for who in who_all)
+        line += "".join(f" {rate['rtlang'] / rate[who]:16.2f}x" for who in seeds)
         print(line)
 
     print("\nRays per sample (the seed: calls of its world's hit(), counted by seed_main.cpp;"
@@ -278,8 +271,7 @@ def main():
     head += "".join(f" {'rays/s rtl/' + who:>20s}" for who in seeds)
     print(head)
     for name in names:
-        _, w, h, spp, depth, _ = SCENES[name]
-        spp = args.spp or spp
+        _, w, h, spp, depth, _ = settings[name]
         rps = {who: statistics.mean(v) for who, v in per_sample[name].items()}
         mrays = {who: w * h * spp * rps[who] / statistics.median(times[name][who]) / 1e6
                  for who in who_all}
@@ -307,8 +299,8 @@ def main():
         fmt = lambda c: " ".join(f"{x:.4f}" for x in c)
         print(f"{name:14s} {fmt(sm):>24s} {fmt(rm):>24s} {100 * diff:16.1f}%")
     print(f"\nImages: {args.work}/{{seed-omp,seed-fork,rtlang}}-SCENE.ppm")
-    if RTLANG.stat().st_mtime != binary:
-        print(f"WARNING: {RTLANG} was rebuilt during the run; the rounds measured different builds")
+    if rtlang.stat().st_mtime != binary:
+        print(f"WARNING: {rtlang} was rebuilt during the run; the rounds measured different builds")
 
 
 if __name__ == "__main__":

@@ -24,18 +24,25 @@ use crate::scene::{Material, MaterialId, Scene};
 /// frame. A plastic reads its coat's tables from `coats`.
 #[inline]
 pub fn bsdf<'a>(scene: &Scene, coats: &'a Coats, hit: &Hit, wo: Vec3, frame: Vec3) -> Bsdf<'a> {
-    let p = hit.point + frame;
+    // Maps read their textures at the offset point the scattered rays
+    // leave from.
     let (base, normal) = match *scene.material(hit.material) {
         Material::NormalMap {
             base,
             map,
             strength,
-        } => (base, maps::normal_mapped(scene, hit, wo, p, map, strength)),
+        } => (
+            base,
+            maps::normal_mapped(scene, hit, wo, hit.point + frame, map, strength),
+        ),
         Material::Bump {
             base,
             height,
             scale,
-        } => (base, maps::bumped(scene, hit, wo, p, height, scale)),
+        } => (
+            base,
+            maps::bumped(scene, hit, wo, hit.point + frame, height, scale),
+        ),
         _ => (hit.material, hit.normal),
     };
     surface(scene, coats, base, hit, normal, frame)

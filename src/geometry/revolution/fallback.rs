@@ -47,11 +47,15 @@ pub fn settle(
     w: &Window,
     known: Signs,
 ) -> Verdict {
-    if known == Signs::One {
-        if let Some(verdict) = one_crossing(profile, ray, points, w) {
-            return verdict;
-        }
-    }
+    // A piece with one crossing is settled without the walk's allocations;
+    // where that crossing cannot be located, the walk subdivides at once.
+    let first = match known {
+        Signs::One => match one_crossing(profile, ray, points, w) {
+            Some(verdict) => return verdict,
+            None => Signs::Unknown,
+        },
+        other => other,
+    };
     // (s, t, proven)
     let mut best: Option<(f64, f64, bool)> = None;
     let mut visits = 0;
@@ -67,7 +71,7 @@ pub fn settle(
             continue;
         };
         let pattern = if visits == 1 {
-            known
+            first
         } else {
             signs(ray, &pts, weights)
         };
@@ -121,9 +125,9 @@ pub fn settle(
     }
 }
 
-/// The verdict on a whole piece known to hold exactly one crossing — the
-/// first visit of [`settle`]'s walk, without its allocations — or `None`
-/// where the crossing cannot be located and the walk must subdivide.
+/// The verdict on a whole piece known to hold exactly one crossing — what
+/// the first visit of [`settle`]'s walk would find — or `None` where the
+/// crossing cannot be located and the piece must be subdivided.
 fn one_crossing(profile: &Profile, ray: &AxisRay, points: &[DVec2], w: &Window) -> Option<Verdict> {
     let bounds = AnnularBox::of_control_points(points, 0.0);
     if bounds.intervals(ray, w.t0, w.t1).first_entry().is_none() {
