@@ -82,6 +82,9 @@ pub fn signs(ray: &AxisRay, points: &[DVec2], weights: &Weights) -> Signs {
     }
 }
 
+/// The largest control point count with a fixed-size [`signs_of`].
+const MAX_FIXED: usize = 5;
+
 /// The weights as `P` rows of `P`.
 fn rows<const P: usize>(w: &[f64]) -> &[[f64; P]; P] {
     w.as_chunks::<P>().0.try_into().unwrap()
@@ -92,7 +95,16 @@ fn signs_of<const P: usize>(ray: &AxisRay, points: &[DVec2; P], w: &[[f64; P]; P
     let u: [f64; P] = std::array::from_fn(|i| points[i].y - ray.origin.y);
     let x: [f64; P] = std::array::from_fn(|i| points[i].x);
     let q = polarised(ray, |i| u[i], |i| x[i]);
-    pattern((0..2 * P - 1).map(|k| coefficient(P - 1, k, |i, j| w[i][j], &q)))
+    // Each weighted term once, then every coefficient's terms summed in the
+    // order `coefficient` sums them (rising `i`, from zero), so the sums are
+    // its bits, in straight-line code.
+    let mut sums = [0.0; 2 * MAX_FIXED - 1];
+    for i in 0..P {
+        for j in 0..P {
+            sums[i + j] += w[i][j] * q(i, j);
+        }
+    }
+    pattern(sums[..2 * P - 1].iter().copied())
 }
 
 /// The polarised form `q(i, j)` of the control points with heights above

@@ -13,6 +13,7 @@ mod tessellate;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use arrayvec::ArrayVec;
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::geometry::{Aabb, Ray};
@@ -25,7 +26,7 @@ use fallback::Verdict;
 use meridian::{Signs, Weights};
 use newton::Window;
 use profile::Profile;
-use shell::{AxisRay, Node, Piece, Shells};
+use shell::{AxisRay, Piece, Shells, PIECE};
 
 /// Relative margin added to a hit's error bound. Newton's roots are
 /// verified only to the tolerance and a leaving ray's search window reaches
@@ -125,51 +126,53 @@ impl RevolutionSurface {
         }
         let t_min = t_min as f64;
         let mut best: Option<(f64, f64)> = None;
-        // The tree is balanced, so its depth is log2 of the piece count and
-        // never near the stack's 64 entries.
-        let mut stack = [0u32; 64];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let i = stack[top] as usize;
+        // Children are pushed last lane first, so they pop in lane order and
+        // the pieces come in profile order. A node pushes at most three more
+        // words than it pops, once per level, and 4¹⁶ pieces are far beyond
+        // any resolution, so 64 words never fill. Not zero-filled per ray.
+        let mut stack = ArrayVec::<u32, 64>::new();
+        stack.push(0);
+        while let Some(word) = stack.pop() {
             let limit = best.map_or(t_max as f64, |(_, t)| t);
-            let node = &self.shells.nodes[i];
-            if !node.bounds().may_overlap(axis_ray, t_min, limit) {
+            if word & PIECE == 0 {
+                let node = &self.shells.nodes[word as usize];
+                let mut mask = node.may_overlap(axis_ray, t_min, limit);
+                while mask != 0 {
+                    let lane = (u32::BITS - 1 - mask.leading_zeros()) as usize;
+                    mask &= !(1 << lane);
+                    stack.push(node.child[lane]);
+                }
                 continue;
             }
-            match *node {
-                Node::Leaf { bounds, piece } => {
-                    let piece = &self.shells.pieces[piece as usize];
-                    for (lo, hi) in bounds.intervals(axis_ray, t_min, limit).iter() {
-                        let hi = hi.min(best.map_or(hi, |(_, t)| t));
-                        if let Some(found) = self.solve_piece(axis_ray, piece, lo, hi, t_min) {
-                            best = Some(found);
-                            break;
-                        }
-                    }
-                    if any && best.is_some() {
-                        break;
-                    }
+            let piece = &self.shells.pieces[(word & !PIECE) as usize];
+            // The node's test saw this limit unless a hit has narrowed it since.
+            if best.is_some() && !piece.bounds.may_overlap(axis_ray, t_min, limit) {
+                continue;
+            }
+            for (lo, hi) in piece.bounds.intervals(axis_ray, t_min, limit).iter() {
+                let hi = hi.min(best.map_or(hi, |(_, t)| t));
+                if let Some(found) = self.solve_piece(axis_ray, piece, lo, hi, t_min) {
+                    best = Some(found);
+                    break;
                 }
-                Node::Inner { right, .. } => {
-                    stack[top] = right;
-                    stack[top + 1] = i as u32 + 1;
-                    top += 2;
-                }
+            }
+            if any && best.is_some() {
+                break;
             }
         }
         best
     }
 
     /// The nearest root in one piece's `[lo, hi]`: Newton from the entry
-    /// of the span. If it does not converge in the span, the crossing
-    /// polynomial is asked: a piece it proves free holds no root, and
-    /// neither does one with exactly one crossing that Newton found outside
-    /// the span (a ray leaving the surface finds the point it left); a
-    /// piece with one crossing otherwise goes to the fallback, which locates
-    /// it. Only where the signs prove nothing does Newton start again from
-    /// the middle and the exit before the fallback settles the piece; what
-    /// the fallback cannot prove is counted.
+    /// of the span, free to go back along the ray before it (to where a
+    /// leaving ray left the piece). If it does not converge in the span,
+    /// the crossing polynomial is asked: a piece it proves free holds no
+    /// root, and neither does one with exactly one crossing that Newton
+    /// found outside the span (a ray leaving the surface finds the point it
+    /// left); a piece with one crossing otherwise goes to the fallback,
+    /// which locates it. Only where the signs prove nothing does Newton
+    /// start again from the middle and the exit before the fallback settles
+    /// the piece; what the fallback cannot prove is counted.
     fn solve_piece(
         &self,
         ray: &AxisRay,
@@ -191,15 +194,27 @@ impl RevolutionSurface {
         };
         // A start's root in the span, or whether it converged outside the
         // span inside the piece.
-        let start = |t: f64| -> Result<(f64, f64), bool> {
+        let start = |t: f64, window: &Window| -> Result<(f64, f64), bool> {
             let s = self.start_parameter(ray, piece, t);
-            let (s, t) = newton::solve(&self.profile, ray, s, t, &window).ok_or(false)?;
+            let (s, t) = newton::solve(&self.profile, ray, s, t, window).ok_or(false)?;
             if t > t_min && t <= hi + (hi - lo) * 1e-3 {
                 return Ok((s, t));
             }
             Err(s > piece.s0 && s < piece.s1)
         };
-        let outside = match start(lo) {
+        // The first start may go back along the ray by the box's extent: a
+        // ray leaving this piece meets it where it left, at or before
+        // `t_min`, and a root found there proves, when the piece has one
+        // crossing, that the span holds none.
+        let b = &piece.bounds;
+        let back = (2.0 * b.r_out + (b.y_hi - b.y_lo)) / ray.dir.length();
+        let outside = match start(
+            lo,
+            &Window {
+                t0: lo - back,
+                ..window
+            },
+        ) {
             Ok(found) => return Some(found),
             Err(outside) => outside,
         };
@@ -209,7 +224,7 @@ impl RevolutionSurface {
             Signs::One if outside => return None,
             Signs::One => {}
             Signs::Unknown => {
-                if let Ok(found) = start(0.5 * (lo + hi)).or_else(|_| start(hi)) {
+                if let Ok(found) = start(0.5 * (lo + hi), &window).or_else(|_| start(hi, &window)) {
                     return Some(found);
                 }
             }

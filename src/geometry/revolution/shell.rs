@@ -2,11 +2,13 @@
 //! `resolution` pieces, each bounded (by the convex-hull property of its
 //! de Casteljau control points) by an annular box — the solid between an
 //! inner and an outer coaxial cylinder and two horizontal planes — arranged
-//! in a binary tree, and the exact ray/annular-box test.
+//! in a four-wide tree whose nodes test their children's boxes side by side,
+//! and the exact ray/annular-box test.
 
 use std::cmp::Ordering;
 
 use glam::{DVec2, DVec3};
+use wide::{f64x4, CmpGe, CmpGt, CmpLe, CmpLt};
 
 use super::profile::Profile;
 use crate::scene::curve::{control_bounds, sub_curve};
@@ -236,23 +238,101 @@ pub struct Piece {
     pub bounds: AnnularBox,
 }
 
-/// A node of the shell tree: leaves are pieces, inner nodes the union of
-/// their two children's boxes. Stored flat, children after their parent.
+/// Children of a shell tree node.
+pub const WIDTH: usize = 4;
+/// A child word with this bit is a piece (its index in the low bits);
+/// otherwise it is a node index.
+pub const PIECE: u32 = 1 << 31;
+
+/// A node of the shell tree: the boxes of up to four children by
+/// coordinate, and each child's word (see [`PIECE`]). A child's box is the
+/// union of the boxes of the pieces under it; the children of a node cover
+/// consecutive runs of pieces in order, so a walk that takes them in lane
+/// order meets the pieces in profile order.
 #[derive(Clone, Copy, Debug)]
-pub enum Node {
-    Leaf { bounds: AnnularBox, piece: u32 },
-    Inner { bounds: AnnularBox, right: u32 },
+pub struct Node {
+    r_in: f64x4,
+    r_out: f64x4,
+    y_lo: f64x4,
+    y_hi: f64x4,
+    /// The lanes in use (bit `i` for lane `i`).
+    used: u32,
+    pub child: [u32; WIDTH],
 }
 
 impl Node {
-    pub fn bounds(&self) -> &AnnularBox {
-        match self {
-            Node::Leaf { bounds, .. } | Node::Inner { bounds, .. } => bounds,
+    /// The node over `boxes` (one to four), whose words are `child`.
+    fn new(boxes: &[AnnularBox], child: [u32; WIDTH]) -> Node {
+        let mut rows = [[0.0; WIDTH]; 4];
+        for (lane, b) in boxes.iter().enumerate() {
+            for (row, value) in rows.iter_mut().zip([b.r_in, b.r_out, b.y_lo, b.y_hi]) {
+                row[lane] = value;
+            }
         }
+        Node {
+            r_in: f64x4::from(rows[0]),
+            r_out: f64x4::from(rows[1]),
+            y_lo: f64x4::from(rows[2]),
+            y_hi: f64x4::from(rows[3]),
+            used: (1 << boxes.len()) - 1,
+            child,
+        }
+    }
+
+    /// The lanes (bit `i` for lane `i`) whose box
+    /// [`AnnularBox::may_overlap`] keeps for `[lo, hi]`: that test's
+    /// operations in its order on four boxes at once, so each lane's answer
+    /// is the scalar test's, bit for bit (its branches on the ray alone
+    /// become branches here; those on the box become lane masks).
+    #[inline]
+    pub fn may_overlap(&self, ray: &AxisRay, lo: f64, hi: f64) -> u32 {
+        let splat = f64x4::splat;
+        let (mut lo, mut hi) = (splat(lo), splat(hi));
+        let mut keep = splat(f64::from_bits(u64::MAX));
+        if ray.dir.y != 0.0 {
+            if !ray.inv_dy.is_nan() {
+                let oy = splat(ray.origin.y);
+                let inv = splat(ray.inv_dy);
+                let t0 = (self.y_lo - oy) * inv;
+                let t1 = (self.y_hi - oy) * inv;
+                // No NaN can arise: the bounds, the origin and `inv_dy` are finite.
+                lo = lo.fast_max(t0.fast_min(t1));
+                hi = hi.fast_min(t0.fast_max(t1));
+            }
+        } else {
+            let oy = splat(ray.origin.y);
+            keep = oy.cmp_ge(self.y_lo) & oy.cmp_le(self.y_hi);
+        }
+        let slack = splat(OVERLAP_SLACK);
+        keep &= !(lo - hi).cmp_gt(slack * (lo.abs() + hi.abs()));
+        let r2 = self.r_out * self.r_out;
+        let (a, b, c) = (splat(ray.a), splat(ray.b), splat(ray.c));
+        if ray.a <= 0.0 {
+            keep &= (c - r2).cmp_le(f64x4::ZERO);
+            return keep.move_mask() as u32 & self.used;
+        }
+        if ray.t_axis.is_nan() {
+            return keep.move_mask() as u32 & self.used;
+        }
+        let two = splat(2.0);
+        let beyond = |t: f64x4, r2: f64x4| {
+            let (near, far) = (a * t * t, two * b * t);
+            let margin = slack * (near + far.abs() + c + r2);
+            (((a * t + two * b) * t + c) - r2, margin)
+        };
+        let (excess, margin) = beyond(splat(ray.t_axis).fast_max(lo).fast_min(hi), r2);
+        keep &= !excess.cmp_gt(margin);
+        let r2 = self.r_in * self.r_in;
+        let hole = |t: f64x4| {
+            let (excess, margin) = beyond(t, r2);
+            excess.cmp_lt(-margin)
+        };
+        keep &= !(self.r_in.cmp_gt(f64x4::ZERO) & hole(lo) & hole(hi));
+        keep.move_mask() as u32 & self.used
     }
 }
 
-/// The shells: the pieces and the tree over them.
+/// The shells: the pieces and the tree over them (root first).
 #[derive(Clone, Debug)]
 pub struct Shells {
     pub pieces: Vec<Piece>,
@@ -278,36 +358,39 @@ impl Shells {
                 }
             })
             .collect();
-        let mut nodes = Vec::with_capacity(2 * n);
+        let mut nodes = Vec::with_capacity(n / (WIDTH - 1) + 1);
         build(&pieces, 0, n, &mut nodes);
         Shells { pieces, nodes }
     }
 }
 
-fn build(pieces: &[Piece], first: usize, end: usize, nodes: &mut Vec<Node>) -> AnnularBox {
-    if end - first == 1 {
-        let bounds = pieces[first].bounds;
-        nodes.push(Node::Leaf {
-            bounds,
-            piece: first as u32,
-        });
-        return bounds;
-    }
+/// Makes the node over pieces `first..end` (and those below it), cut into
+/// up to four runs of nearly equal length, and returns its index.
+fn build(pieces: &[Piece], first: usize, end: usize, nodes: &mut Vec<Node>) -> u32 {
     let at = nodes.len();
-    nodes.push(Node::Leaf {
-        bounds: pieces[first].bounds,
-        piece: 0,
-    });
-    let mid = (first + end) / 2;
-    let left = build(pieces, first, mid, nodes);
-    let right_index = nodes.len() as u32;
-    let right = build(pieces, mid, end, nodes);
-    let bounds = left.union(&right);
-    nodes[at] = Node::Inner {
-        bounds,
-        right: right_index,
-    };
-    bounds
+    // A placeholder, so the node precedes its descendants.
+    nodes.push(Node::new(&[], [0; WIDTH]));
+    let n = end - first;
+    let lanes = n.min(WIDTH);
+    let mut boxes = [pieces[first].bounds; WIDTH];
+    let mut child = [0; WIDTH];
+    let mut from = first;
+    for lane in 0..lanes {
+        let to = first + n * (lane + 1) / lanes;
+        boxes[lane] = pieces[from..to]
+            .iter()
+            .map(|p| p.bounds)
+            .reduce(|a, b| a.union(&b))
+            .expect("a run holds at least one piece");
+        child[lane] = if to - from == 1 {
+            PIECE | from as u32
+        } else {
+            build(pieces, from, to, nodes)
+        };
+        from = to;
+    }
+    nodes[at] = Node::new(&boxes[..lanes], child);
+    at as u32
 }
 
 #[cfg(test)]
@@ -361,6 +444,93 @@ mod tests {
             let (b, ray, lo, hi) = case(e, shape, pass, reach);
             if b.intervals(&ray, lo, hi).first_entry().is_some() {
                 prop_assert!(b.may_overlap(&ray, lo, hi));
+            }
+        }
+    }
+
+    proptest! {
+        /// Each lane of a node answers what the scalar test answers for its
+        /// box, for boxes of different sizes and heights, rays parallel to
+        /// the slabs or to the axis, and nodes with unused lanes.
+        #[test]
+        fn node_lanes_agree_with_the_scalar_test(
+            e in -30i32..30,
+            shape in (0.0f64..1.0, 0.01f64..10.0),
+            pass in (
+                any::<bool>(),
+                prop_oneof![-1e-9f64..1e-9, -0.5f64..0.5],
+                0.0f64..6.3,
+                prop_oneof![Just(0.0), -1e-12f64..1e-12, -1e3f64..1e3],
+                -12.0f64..12.0,
+            ),
+            reach in (prop_oneof![0.0f64..1.0, 1.0f64..1e9], 0.0f64..1.5),
+            others in prop::collection::vec((0.3f64..3.0, 0.0f64..1.0, -2.0f64..2.0), 0..4),
+            vertical in any::<bool>(),
+        ) {
+            let (first, mut ray, lo, hi) = case(e, shape, pass, reach);
+            if vertical {
+                ray = AxisRay::new(ray.origin, DVec3::Y);
+            }
+            let mut boxes = vec![first];
+            for &(size, inner, shift) in &others {
+                let r_out = first.r_out * size;
+                let half = 0.5 * (first.y_hi - first.y_lo) * size;
+                let mid = first.r_out * shift;
+                boxes.push(AnnularBox {
+                    r_in: r_out * inner,
+                    r_out,
+                    y_lo: mid - half,
+                    y_hi: mid + half,
+                });
+            }
+            let mask = Node::new(&boxes, [0; WIDTH]).may_overlap(&ray, lo, hi);
+            prop_assert_eq!(mask >> boxes.len(), 0);
+            for (lane, b) in boxes.iter().enumerate() {
+                prop_assert_eq!(mask >> lane & 1 == 1, b.may_overlap(&ray, lo, hi), "lane {}", lane);
+            }
+        }
+    }
+
+    /// The pieces under `word` in the order a walk meets them, checking
+    /// that every box of a node holds the boxes of the pieces under it.
+    fn pieces_under(shells: &Shells, word: u32, out: &mut Vec<usize>) {
+        if word & PIECE != 0 {
+            out.push((word & !PIECE) as usize);
+            return;
+        }
+        let node = &shells.nodes[word as usize];
+        let rows = [node.r_in, node.r_out, node.y_lo, node.y_hi].map(|r| r.to_array());
+        for (lane, &child) in node.child.iter().enumerate() {
+            if node.used >> lane & 1 == 0 {
+                continue;
+            }
+            let from = out.len();
+            pieces_under(shells, child, out);
+            for &i in &out[from..] {
+                let b = shells.pieces[i].bounds;
+                assert!(rows[0][lane] <= b.r_in && rows[1][lane] >= b.r_out);
+                assert!(rows[2][lane] <= b.y_lo && rows[3][lane] >= b.y_hi);
+            }
+        }
+    }
+
+    #[test]
+    fn the_tree_holds_every_piece_once_in_profile_order() {
+        let curve = crate::scene::curve::Bezier {
+            points: [(0.5, 0.0), (1.5, 0.5), (0.2, 1.5), (0.8, 2.0)]
+                .map(|(x, y)| glam::Vec2::new(x, y))
+                .to_vec(),
+        };
+        let profile = Profile::new(&curve);
+        for n in [1, 2, 3, 4, 5, 7, 16, 17, 50, 257] {
+            let shells = Shells::new(&profile, n);
+            let mut order = Vec::new();
+            pieces_under(&shells, 0, &mut order);
+            assert_eq!(order, (0..n as usize).collect::<Vec<_>>(), "{n} pieces");
+            // A node holds two to four children, except a root over one piece.
+            for node in &shells.nodes {
+                let lanes = node.used.count_ones();
+                assert!(lanes >= 2.min(n) && lanes as usize <= WIDTH, "{n} pieces");
             }
         }
     }
