@@ -22,11 +22,13 @@ use crate::scene::Bezier;
 pub use distance::{surface_distance, tessellation_error_bound};
 pub use tessellate::tessellate;
 
+#[cfg(target_arch = "x86_64")]
+use crate::simd::avx;
 use fallback::Verdict;
 use meridian::{Signs, Weights};
 use newton::Window;
 use profile::Profile;
-use shell::{AxisRay, Piece, Shells, PIECE};
+use shell::{node_mask, AxisRay, Piece, Shells, PIECE};
 
 /// Relative margin added to a hit's error bound. Newton's roots are
 /// verified only to the tolerance and a leaving ray's search window reaches
@@ -62,6 +64,15 @@ pub struct RevolutionSurface {
     tolerance: f64,
     max_iterations: u32,
     newton_failures: AtomicU64,
+}
+
+/// What a walk looks for: a root with `t` in `(t_min, t_max)`, the nearest,
+/// or with `any` the first one found.
+#[derive(Clone, Copy, Debug)]
+struct Query {
+    t_min: f32,
+    t_max: f32,
+    any: bool,
 }
 
 impl RevolutionSurface {
@@ -105,8 +116,15 @@ impl RevolutionSurface {
     /// The nearest hit with `t` in `(t_min, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
-        self.walk(&axis_ray, t_min, t_max, false)
-            .map(|(s, t)| self.hit_at(&axis_ray, s, t))
+        self.walk(
+            &axis_ray,
+            Query {
+                t_min,
+                t_max,
+                any: false,
+            },
+        )
+        .map(|(s, t)| self.hit_at(&axis_ray, s, t))
     }
 
     /// Whether the surface has a hit with `t` in `(t_min, t_max)`: the
@@ -114,12 +132,42 @@ impl RevolutionSurface {
     /// which that walk would also find (same order, same limits so far).
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
-        self.walk(&axis_ray, t_min, t_max, true).is_some()
+        self.walk(
+            &axis_ray,
+            Query {
+                t_min,
+                t_max,
+                any: true,
+            },
+        )
+        .is_some()
     }
 
-    /// The shell tree's walk: the nearest root `(s, t)`, or with `any` the
-    /// first one found.
-    fn walk(&self, axis_ray: &AxisRay, t_min: f32, t_max: f32, any: bool) -> Option<(f64, f64)> {
+    /// The shell tree's walk: the root `(s, t)` the query asks for.
+    fn walk(&self, axis_ray: &AxisRay, query: Query) -> Option<(f64, f64)> {
+        #[cfg(target_arch = "x86_64")]
+        if avx() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.walk_avx(axis_ray, query) };
+        }
+        self.walk_with::<false>(axis_ray, query)
+    }
+
+    /// [`RevolutionSurface::walk`] with the nodes' AVX test.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn walk_avx(&self, axis_ray: &AxisRay, query: Query) -> Option<(f64, f64)> {
+        self.walk_with::<true>(axis_ray, query)
+    }
+
+    /// [`RevolutionSurface::walk`] with the node test the walk was compiled
+    /// for; both give the same bits.
+    #[inline(always)]
+    fn walk_with<const AVX: bool>(&self, axis_ray: &AxisRay, query: Query) -> Option<(f64, f64)> {
+        let Query { t_min, t_max, any } = query;
         if axis_ray.dir == DVec3::ZERO || !(axis_ray.dir.is_finite() && axis_ray.origin.is_finite())
         {
             return None;
@@ -136,7 +184,7 @@ impl RevolutionSurface {
             let limit = best.map_or(t_max as f64, |(_, t)| t);
             if word & PIECE == 0 {
                 let node = &self.shells.nodes[word as usize];
-                let mut mask = node.may_overlap(axis_ray, t_min, limit);
+                let mut mask = node_mask::<AVX>(node, axis_ray, t_min, limit);
                 while mask != 0 {
                     let lane = (u32::BITS - 1 - mask.leading_zeros()) as usize;
                     mask &= !(1 << lane);

@@ -332,6 +332,101 @@ impl Node {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl Node {
+    /// [`Node::may_overlap`] as one AVX pass: the same operations in the
+    /// same order, lane for lane (`_mm256_max_pd(a, b)` and `_mm256_min_pd`
+    /// are `fast_max` and `fast_min`; the ordered compares are false on a
+    /// NaN as `cmp_*` are; a negation is a subtraction from zero as in
+    /// `wide`).
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[inline]
+    #[target_feature(enable = "avx")]
+    pub unsafe fn may_overlap_avx(&self, ray: &AxisRay, lo: f64, hi: f64) -> u32 {
+        use std::arch::x86_64::*;
+        // SAFETY: each row is four contiguous f64s.
+        let row = |r: &f64x4| unsafe { _mm256_loadu_pd(r.as_array_ref().as_ptr()) };
+        let splat = |x: f64| _mm256_set1_pd(x);
+        let zero = _mm256_setzero_pd();
+        let not = |m: __m256d| _mm256_xor_pd(m, _mm256_cmp_pd::<_CMP_EQ_OQ>(zero, zero));
+        let abs = |x: __m256d| _mm256_and_pd(x, splat(f64::from_bits(i64::MAX as u64)));
+        let (mut lo, mut hi) = (splat(lo), splat(hi));
+        let mut keep = _mm256_cmp_pd::<_CMP_EQ_OQ>(zero, zero);
+        if ray.dir.y != 0.0 {
+            if !ray.inv_dy.is_nan() {
+                let oy = splat(ray.origin.y);
+                let inv = splat(ray.inv_dy);
+                let t0 = _mm256_mul_pd(_mm256_sub_pd(row(&self.y_lo), oy), inv);
+                let t1 = _mm256_mul_pd(_mm256_sub_pd(row(&self.y_hi), oy), inv);
+                lo = _mm256_max_pd(lo, _mm256_min_pd(t0, t1));
+                hi = _mm256_min_pd(hi, _mm256_max_pd(t0, t1));
+            }
+        } else {
+            let oy = splat(ray.origin.y);
+            keep = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_GE_OQ>(oy, row(&self.y_lo)),
+                _mm256_cmp_pd::<_CMP_LE_OQ>(oy, row(&self.y_hi)),
+            );
+        }
+        let slack = splat(OVERLAP_SLACK);
+        let span = _mm256_mul_pd(slack, _mm256_add_pd(abs(lo), abs(hi)));
+        keep = _mm256_and_pd(
+            keep,
+            not(_mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_sub_pd(lo, hi), span)),
+        );
+        let r_out = row(&self.r_out);
+        let r2 = _mm256_mul_pd(r_out, r_out);
+        let (a, b, c) = (splat(ray.a), splat(ray.b), splat(ray.c));
+        let used = |keep: __m256d| _mm256_movemask_pd(keep) as u32 & self.used;
+        if ray.a <= 0.0 {
+            let inside = _mm256_cmp_pd::<_CMP_LE_OQ>(_mm256_sub_pd(c, r2), zero);
+            return used(_mm256_and_pd(keep, inside));
+        }
+        if ray.t_axis.is_nan() {
+            return used(keep);
+        }
+        let two = splat(2.0);
+        let beyond = |t: __m256d, r2: __m256d| {
+            let near = _mm256_mul_pd(_mm256_mul_pd(a, t), t);
+            let far = _mm256_mul_pd(_mm256_mul_pd(two, b), t);
+            let sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(near, abs(far)), c), r2);
+            let margin = _mm256_mul_pd(slack, sum);
+            let rho2 = _mm256_add_pd(
+                _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(a, t), _mm256_mul_pd(two, b)), t),
+                c,
+            );
+            (_mm256_sub_pd(rho2, r2), margin)
+        };
+        let nearest = _mm256_min_pd(_mm256_max_pd(splat(ray.t_axis), lo), hi);
+        let (excess, margin) = beyond(nearest, r2);
+        keep = _mm256_and_pd(keep, not(_mm256_cmp_pd::<_CMP_GT_OQ>(excess, margin)));
+        let r_in = row(&self.r_in);
+        let r2 = _mm256_mul_pd(r_in, r_in);
+        let hole = |t: __m256d| {
+            let (excess, margin) = beyond(t, r2);
+            _mm256_cmp_pd::<_CMP_LT_OQ>(excess, _mm256_sub_pd(zero, margin))
+        };
+        let in_hole = _mm256_and_pd(
+            _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(r_in, zero), hole(lo)),
+            hole(hi),
+        );
+        used(_mm256_and_pd(keep, not(in_hole)))
+    }
+}
+
+/// A node's lane mask by the path a walk was compiled for.
+#[inline(always)]
+pub fn node_mask<const AVX: bool>(node: &Node, ray: &AxisRay, lo: f64, hi: f64) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if AVX {
+        // SAFETY: the AVX walks run only where `simd::avx()` said so.
+        return unsafe { node.may_overlap_avx(ray, lo, hi) };
+    }
+    node.may_overlap(ray, lo, hi)
+}
+
 /// The shells: the pieces and the tree over them (root first).
 #[derive(Clone, Debug)]
 pub struct Shells {
@@ -450,7 +545,7 @@ mod tests {
 
     proptest! {
         /// Each lane of a node answers what the scalar test answers for its
-        /// box, for boxes of different sizes and heights, rays parallel to
+        /// box, and the AVX pass what the portable one answers, for boxes of different sizes and heights, rays parallel to
         /// the slabs or to the axis, and nodes with unused lanes.
         #[test]
         fn node_lanes_agree_with_the_scalar_test(
@@ -483,8 +578,14 @@ mod tests {
                     y_hi: mid + half,
                 });
             }
-            let mask = Node::new(&boxes, [0; WIDTH]).may_overlap(&ray, lo, hi);
+            let node = Node::new(&boxes, [0; WIDTH]);
+            let mask = node.may_overlap(&ray, lo, hi);
             prop_assert_eq!(mask >> boxes.len(), 0);
+            #[cfg(target_arch = "x86_64")]
+            if crate::simd::avx() {
+                // SAFETY: the CPU has AVX.
+                prop_assert_eq!(unsafe { node.may_overlap_avx(&ray, lo, hi) }, mask);
+            }
             for (lane, b) in boxes.iter().enumerate() {
                 prop_assert_eq!(mask >> lane & 1 == 1, b.may_overlap(&ray, lo, hi), "lane {}", lane);
             }
