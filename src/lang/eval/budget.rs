@@ -34,8 +34,10 @@ pub const BYTES_PER_TRIANGLE: f64 = 400.0;
 /// (f64), its share of the tree's nodes and the build's scratch. (An
 /// emitting shape's light fits in its `BYTES_PER_PRIMITIVE`.)
 pub const BYTES_PER_LIGHT: f64 = 1024.0;
-/// One shell piece of an analytic revolution: the inner and outer shells'
-/// triangles and their trees.
+/// One shell piece of an analytic revolution: the piece (its parameter
+/// range, end points, box and control points: about 170 bytes for a cubic
+/// profile) and its share of the four-wide shell tree (about 55 bytes),
+/// with room for profiles of higher degree.
 pub const BYTES_PER_SHELL: f64 = 1024.0;
 
 /// One byte of a scene file while it is parsed and evaluated: its text
