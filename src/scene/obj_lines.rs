@@ -55,17 +55,22 @@ impl LineError {
 }
 
 /// The first problem of `bytes`, an OBJ file's content, if any.
+///
+/// A line that passes costs no allocation: its words go to one reused
+/// buffer, and columns, widths and the shown text are worked out only for
+/// the line with the problem. (Working them out for every line cost a
+/// million-face file 43 % more instructions here, 8.6 G against 6.0 G.)
 pub fn check(bytes: &[u8]) -> Option<LineError> {
     let mut counts = [0usize; 3]; // v, vt, vn
     let mut previous: &[u8] = &[];
+    let mut words: Vec<&str> = Vec::new();
     for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
-        let lossy = String::from_utf8_lossy(raw);
         let before = std::mem::replace(&mut previous, raw);
         let at = |column: usize, width: usize, message: String, label: &str| LineError {
             line: i + 1,
             column,
             width: width.max(1),
-            text: shown(&lossy, column),
+            text: shown(&String::from_utf8_lossy(raw), column),
             previous: shown(&String::from_utf8_lossy(before), 1),
             message,
             label: label.into(),
@@ -94,22 +99,20 @@ pub fn check(bytes: &[u8]) -> Option<LineError> {
                 ));
             }
         };
-        let words: Vec<(usize, &str)> = line
-            .split_whitespace()
-            .map(|w| (column_of(line, w), w))
-            .collect();
-        let Some(&(_, keyword)) = words.first() else {
+        words.clear();
+        words.extend(line.split_whitespace());
+        let Some((&keyword, args)) = words.split_first() else {
             continue;
         };
-        let args = &words[1..];
-        let end = line.trim_end().chars().count() + 1;
+        let args = Args { line, words: args };
         let problem = match keyword {
-            "v" => numbers(args, &[3, 4, 6], "a position `v x y z`", end)
-                .or_else(|| beyond_limit(&args[..args.len().min(3)])),
-            "vt" => numbers(args, &[2, 3], "a texture coordinate `vt u v`", end),
-            "vn" => numbers(args, &[3], "a normal `vn x y z`", end),
-            "f" => face(args, counts, end),
-            "l" => polyline(args, counts, end),
+            "v" => {
+                numbers(args, &[3, 4, 6], "a position `v x y z`").or_else(|| beyond_limit(args, 3))
+            }
+            "vt" => numbers(args, &[2, 3], "a texture coordinate `vt u v`"),
+            "vn" => numbers(args, &[3], "a normal `vn x y z`"),
+            "f" => face(args, counts),
+            "l" => polyline(args, counts),
             _ => None,
         };
         if let Some((column, width, message, label)) = problem {
@@ -128,12 +131,33 @@ pub fn check(bytes: &[u8]) -> Option<LineError> {
 /// A problem: column, width, message and label.
 type Problem = (usize, usize, String, &'static str);
 
-/// The 1-based column (in characters) where `word`, a slice of `line`, starts.
-fn column_of(line: &str, word: &str) -> usize {
-    line[..word.as_ptr() as usize - line.as_ptr() as usize]
-        .chars()
-        .count()
-        + 1
+/// The words of a line after its keyword, and the line they are slices of
+/// (for the columns of a problem).
+#[derive(Clone, Copy)]
+struct Args<'a> {
+    line: &'a str,
+    words: &'a [&'a str],
+}
+
+impl Args<'_> {
+    /// The 1-based column (in characters) where `word`, a slice of the
+    /// line, starts.
+    fn column(&self, word: &str) -> usize {
+        self.line[..word.as_ptr() as usize - self.line.as_ptr() as usize]
+            .chars()
+            .count()
+            + 1
+    }
+
+    /// The column after the line's text.
+    fn end(&self) -> usize {
+        self.line.trim_end().chars().count() + 1
+    }
+
+    /// The problem at `word`, over its width.
+    fn at(&self, word: &str, message: String, label: &'static str) -> Problem {
+        (self.column(word), word.chars().count(), message, label)
+    }
 }
 
 /// `line` from its start to a little after `column`, with control
@@ -158,111 +182,83 @@ fn shown(line: &str, column: usize) -> String {
 }
 
 /// What is wrong with the numbers of a `v`, `vt` or `vn` line, which must
-/// have one of the `allowed` counts of finite numbers (`end` is the column
-/// after the line's text).
-fn numbers(args: &[(usize, &str)], allowed: &[usize], what: &str, end: usize) -> Option<Problem> {
-    for &(column, word) in args {
-        let width = word.chars().count();
+/// have one of the `allowed` counts of finite numbers.
+fn numbers(args: Args, allowed: &[usize], what: &str) -> Option<Problem> {
+    for &word in args.words {
         match word.parse::<f32>() {
             Err(_) => {
-                return Some((
-                    column,
-                    width,
-                    format!("`{word}` is not a number, in {what}"),
-                    "not a number",
-                ))
+                let message = format!("`{word}` is not a number, in {what}");
+                return Some(args.at(word, message, "not a number"));
             }
             Ok(x) if !x.is_finite() => {
-                return Some((
-                    column,
-                    width,
-                    format!("`{word}` is not a finite number, in {what}"),
-                    "not finite",
-                ))
+                let message = format!("`{word}` is not a finite number, in {what}");
+                return Some(args.at(word, message, "not finite"));
             }
             Ok(_) => {}
         }
     }
-    if allowed.contains(&args.len()) {
-        if args.len() == 4 && args[3].1.parse::<f32>() == Ok(0.0) {
-            let (column, word) = args[3];
-            return Some((
-                column,
-                word.chars().count(),
-                "a position's weight `w` of 0 divides by zero".into(),
-                "zero weight",
-            ));
+    let n = args.words.len();
+    if allowed.contains(&n) {
+        if n == 4 && args.words[3].parse::<f32>() == Ok(0.0) {
+            let message = "a position's weight `w` of 0 divides by zero".into();
+            return Some(args.at(args.words[3], message, "zero weight"));
         }
         return None;
     }
     let counts: Vec<String> = allowed.iter().map(usize::to_string).collect();
-    let message = format!(
-        "{} numbers where {what} has {}",
-        args.len(),
-        counts.join(" or ")
-    );
-    Some(match args.get(*allowed.last().unwrap_or(&0)) {
-        Some(&(column, word)) => (column, word.chars().count(), message, "one too many"),
-        None => (end, 1, message, "missing numbers"),
+    let message = format!("{n} numbers where {what} has {}", counts.join(" or "));
+    Some(match args.words.get(*allowed.last().unwrap_or(&0)) {
+        Some(&word) => args.at(word, message, "one too many"),
+        None => (args.end(), 1, message, "missing numbers"),
     })
 }
 
-/// The first of a position's coordinates past the limit the renderer holds.
-fn beyond_limit(coordinates: &[(usize, &str)]) -> Option<Problem> {
-    let &(column, word) = coordinates
+/// The first of a position's first `n` coordinates past the limit the
+/// renderer holds.
+fn beyond_limit(args: Args, n: usize) -> Option<Problem> {
+    let &word = args.words[..args.words.len().min(n)]
         .iter()
-        .find(|(_, w)| w.parse::<f32>().is_ok_and(|x| x.abs() > MAX_COORDINATE))?;
-    Some((
-        column,
-        word.chars().count(),
-        format!("`{word}` is beyond the coordinate limit ±{MAX_COORDINATE:e}"),
-        "too far",
-    ))
+        .find(|w| w.parse::<f32>().is_ok_and(|x| x.abs() > MAX_COORDINATE))?;
+    let message = format!("`{word}` is beyond the coordinate limit ±{MAX_COORDINATE:e}");
+    Some(args.at(word, message, "too far"))
 }
 
 /// What is wrong with a face's vertices given the counts so far.
-fn face(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Problem> {
-    for &(column, word) in args {
+fn face(args: Args, counts: [usize; 3]) -> Option<Problem> {
+    for &word in args.words {
         if let Some((message, label)) = face_vertex(word, counts) {
-            return Some((column, word.chars().count(), message, label));
+            return Some(args.at(word, message, label));
         }
     }
-    too_few(args, end, "face", 3, "a third vertex is missing")
+    too_few(args, "face", 3, "a third vertex is missing")
 }
 
 /// What is wrong with a polyline `l v1 v2 …` (vertices `v` or `v/vt`;
 /// rtlang draws no lines, but tobj refuses a malformed one).
-fn polyline(args: &[(usize, &str)], counts: [usize; 3], end: usize) -> Option<Problem> {
-    for &(column, word) in args {
-        let width = word.chars().count();
+fn polyline(args: Args, counts: [usize; 3]) -> Option<Problem> {
+    for &word in args.words {
         if word.split('/').count() > 2 {
             let message = format!("`{word}`: a line vertex is `v` or `v/vt`");
-            return Some((column, width, message, "too many `/`"));
+            return Some(args.at(word, message, "too many `/`"));
         }
         if let Some((message, label)) = face_vertex(word, counts) {
-            return Some((column, width, message, label));
+            return Some(args.at(word, message, label));
         }
     }
-    too_few(args, end, "line", 2, "a second vertex is missing")
+    too_few(args, "line", 2, "a second vertex is missing")
 }
 
 /// The problem of a `what` (face or line) with fewer than `least` vertices,
-/// marked just after its last word (or at the line's `end` when it has none).
-fn too_few(
-    args: &[(usize, &str)],
-    end: usize,
-    what: &str,
-    least: usize,
-    label: &'static str,
-) -> Option<Problem> {
-    (args.len() < least).then(|| {
+/// marked just after its last word (or at the line's end when it has none).
+fn too_few(args: Args, what: &str, least: usize, label: &'static str) -> Option<Problem> {
+    let n = args.words.len();
+    (n < least).then(|| {
         (
-            args.last().map_or(end, |&(c, w)| c + w.chars().count()),
+            args.words
+                .last()
+                .map_or(args.end(), |&w| args.column(w) + w.chars().count()),
             1,
-            format!(
-                "a {what} with {} vertices: a {what} needs at least {least}",
-                args.len()
-            ),
+            format!("a {what} with {n} vertices: a {what} needs at least {least}"),
             label,
         )
     })
@@ -271,17 +267,16 @@ fn too_few(
 /// What is wrong with one face vertex `v/vt/vn` given the counts so far.
 fn face_vertex(word: &str, counts: [usize; 3]) -> Option<(String, &'static str)> {
     const KINDS: [&str; 3] = ["position", "texture coordinate", "normal"];
-    let parts: Vec<&str> = word.split('/').collect();
-    if parts.len() > 3 {
+    let parts = word.bytes().filter(|&b| b == b'/').count() + 1;
+    if parts > 3 {
         return Some((
             format!(
-                "`{word}` has {} parts; a face vertex is `v`, `v/vt`, `v//vn` or `v/vt/vn`",
-                parts.len()
+                "`{word}` has {parts} parts; a face vertex is `v`, `v/vt`, `v//vn` or `v/vt/vn`"
             ),
             "too many `/`",
         ));
     }
-    for (k, part) in parts.into_iter().enumerate() {
+    for (k, part) in word.split('/').enumerate() {
         if part.is_empty() && k > 0 {
             continue;
         }
