@@ -98,6 +98,7 @@ fn signs_of<const P: usize>(ray: &AxisRay, points: &[DVec2; P], w: &[[f64; P]; P
     // Each weighted term once, then every coefficient's terms summed in the
     // order `coefficient` sums them (rising `i`, from zero), so the sums are
     // its bits, in straight-line code.
+    const { assert!(P <= MAX_FIXED) };
     let mut sums = [0.0; 2 * MAX_FIXED - 1];
     for i in 0..P {
         for j in 0..P {

@@ -519,24 +519,31 @@ mod tests {
         (b, ray, lo, lo + 2.0 * window * back * k + k)
     }
 
-    proptest! {
-        /// The cheap test prunes only what the exact one rejects, at any
-        /// scale, for rays grazing either cylinder and nearly vertical or
-        /// horizontal rays.
-        #[test]
-        fn may_overlap_holds_wherever_intervals_finds_a_span(
-            e in -30i32..30,
-            shape in (0.0f64..1.0, 0.01f64..10.0),
-            pass in (
+    /// Boxes and rays as [`case`] makes them, over the scales, grazing
+    /// passes and nearly vertical or horizontal rays the property tests
+    /// cover.
+    fn cases() -> impl Strategy<Value = (AnnularBox, AxisRay, f64, f64)> {
+        (
+            -30i32..30,
+            (0.0f64..1.0, 0.01f64..10.0),
+            (
                 any::<bool>(),
                 prop_oneof![-1e-9f64..1e-9, -1e-15f64..1e-15, -0.5f64..0.5],
                 0.0f64..6.3,
                 prop_oneof![Just(0.0), -1e-12f64..1e-12, -1e3f64..1e3],
                 -12.0f64..12.0,
             ),
-            reach in (prop_oneof![0.0f64..1.0, 1.0f64..1e9], 0.0f64..1.5),
-        ) {
-            let (b, ray, lo, hi) = case(e, shape, pass, reach);
+            (prop_oneof![0.0f64..1.0, 1.0f64..1e9], 0.0f64..1.5),
+        )
+            .prop_map(|(e, shape, pass, reach)| case(e, shape, pass, reach))
+    }
+
+    proptest! {
+        /// The cheap test prunes only what the exact one rejects, at any
+        /// scale, for rays grazing either cylinder and nearly vertical or
+        /// horizontal rays.
+        #[test]
+        fn may_overlap_holds_wherever_intervals_finds_a_span((b, ray, lo, hi) in cases()) {
             if b.intervals(&ray, lo, hi).first_entry().is_some() {
                 prop_assert!(b.may_overlap(&ray, lo, hi));
             }
@@ -545,24 +552,15 @@ mod tests {
 
     proptest! {
         /// Each lane of a node answers what the scalar test answers for its
-        /// box, and the AVX pass what the portable one answers, for boxes of different sizes and heights, rays parallel to
-        /// the slabs or to the axis, and nodes with unused lanes.
+        /// box, and the AVX pass what the portable one answers, for boxes of
+        /// different sizes and heights, rays parallel to the slabs or to the
+        /// axis, and nodes with unused lanes.
         #[test]
         fn node_lanes_agree_with_the_scalar_test(
-            e in -30i32..30,
-            shape in (0.0f64..1.0, 0.01f64..10.0),
-            pass in (
-                any::<bool>(),
-                prop_oneof![-1e-9f64..1e-9, -0.5f64..0.5],
-                0.0f64..6.3,
-                prop_oneof![Just(0.0), -1e-12f64..1e-12, -1e3f64..1e3],
-                -12.0f64..12.0,
-            ),
-            reach in (prop_oneof![0.0f64..1.0, 1.0f64..1e9], 0.0f64..1.5),
+            (first, mut ray, lo, hi) in cases(),
             others in prop::collection::vec((0.3f64..3.0, 0.0f64..1.0, -2.0f64..2.0), 0..4),
             vertical in any::<bool>(),
         ) {
-            let (first, mut ray, lo, hi) = case(e, shape, pass, reach);
             if vertical {
                 ray = AxisRay::new(ray.origin, DVec3::Y);
             }
