@@ -4,6 +4,10 @@ use glam::{Mat4, Vec3};
 
 use super::Ray;
 
+/// The factor absorbing the rounding of the slab distances (robust
+/// traversal, Ize 2013), so rays grazing a box edge are not lost.
+pub const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
+
 /// An axis-aligned box; `min > max` on any axis means empty.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -89,6 +93,30 @@ impl Aabb {
             out = out.grow(m.transform_point3(c));
         }
         out
+    }
+
+    /// Whether a ray from `origin` with reciprocal direction `inv_dir`
+    /// enters the box within `(0, t_max)`: one lane of the BVH's node test
+    /// (`bvh::node`), the same operations in the same order, so a box is
+    /// entered here exactly when a walk would enter it. A NaN slab distance
+    /// (a zero direction component meeting a face through the origin)
+    /// keeps the bound before it, as the node test's `max` does.
+    #[inline(always)]
+    pub fn entered(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> bool {
+        let mut near = 0.0f32;
+        let mut far = t_max;
+        for axis in 0..3 {
+            let (first, last) = if inv_dir[axis] < 0.0 {
+                (self.max[axis], self.min[axis])
+            } else {
+                (self.min[axis], self.max[axis])
+            };
+            let to_first = (first - origin[axis]) * inv_dir[axis];
+            let to_last = (last - origin[axis]) * inv_dir[axis];
+            near = if to_first > near { to_first } else { near };
+            far = if to_last < far { to_last } else { far };
+        }
+        near <= far * ROBUST
     }
 
     /// Slab test; `inv_dir` is `1 / ray.dir` per component. Returns the entry

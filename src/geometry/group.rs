@@ -1,7 +1,8 @@
-//! A group of instances: the surfaces under one BVH, with a short list of
-//! the unbounded ones (infinite planes) tested after it, and the media,
-//! asked for their stretches last, up to the nearest surface found (a few
-//! in turn, more through a BVH of their own).
+//! A group of instances: the surfaces under one BVH (a few asked in turn
+//! instead), with a short list of the unbounded ones (infinite planes)
+//! tested after it, and the media, asked for their stretches last, up to
+//! the nearest surface found (a few in turn, more through a BVH of their
+//! own).
 //!
 //! It imports [`super::object`], which imports it back: a group is one
 //! kind of [`Geometry`] and holds geometry (see that module's header).
@@ -16,6 +17,12 @@ use super::{Aabb, Bvh, Hit, Ray};
 /// and node test over a hundred (with a haze and one ball, the book-2 scene
 /// took 3.5 % more instructions through a BVH).
 const FEW_MEDIA: usize = 4;
+
+/// Up to this many bounded surfaces (a mesh, the set of a scene's other
+/// shapes, a lamp's shade) are asked in turn, each behind its box's test,
+/// rather than through the layer's BVH: on a mesh beside a floor and a
+/// lamp, the walk over two boxes had cost a third of the mesh's own walk.
+const FEW_SURFACES: usize = 4;
 
 /// Instances under one hierarchy.
 #[derive(Default)]
@@ -79,6 +86,9 @@ struct Layer {
     bounded: Vec<Instance>,
     unbounded: Vec<Instance>,
     bvh: Bvh,
+    /// At most [`FEW_SURFACES`] bounded instances: asked in turn, in BVH
+    /// order, rather than walked.
+    few: bool,
 }
 
 impl Layer {
@@ -87,12 +97,47 @@ impl Layer {
             instances.into_iter().partition(|i| i.bounds.is_bounded());
         let boxes: Vec<Aabb> = bounded.iter().map(|i| i.bounds).collect();
         let (bvh, order) = Bvh::build(&boxes);
-        let bounded = order.iter().map(|&i| bounded[i as usize].clone()).collect();
+        let bounded: Vec<Instance> = order.iter().map(|&i| bounded[i as usize].clone()).collect();
         Layer {
+            few: bounded.len() <= FEW_SURFACES,
             bounded,
             unbounded,
             bvh,
         }
+    }
+
+    /// Visits the bounded instances whose boxes the ray enters within
+    /// `(0, t_max)`, the nearest `t` found so far narrowing `t_max` as in
+    /// [`Bvh::traverse`]: a few in turn, more by the BVH.
+    #[inline(always)]
+    fn traverse(&self, ray: &Ray, t_max: f32, mut visit: impl FnMut(usize, f32) -> Option<f32>) {
+        if !self.few {
+            return self.bvh.traverse(ray, t_max, visit);
+        }
+        let inv_dir = ray.dir.recip();
+        let mut t_max = t_max;
+        for (slot, inst) in self.bounded.iter().enumerate() {
+            if inst.bounds.entered(ray.origin, inv_dir, t_max) {
+                if let Some(t) = visit(slot, t_max) {
+                    t_max = t;
+                }
+            }
+        }
+    }
+
+    /// Whether `hit` holds for a bounded instance whose box the ray enters
+    /// within `(0, t_max)`, as [`Bvh::traverse_any`]: a few in turn, more
+    /// by the BVH.
+    #[inline(always)]
+    fn traverse_any(&self, ray: &Ray, t_max: f32, mut hit: impl FnMut(usize, f32) -> bool) -> bool {
+        if !self.few {
+            return self.bvh.traverse_any(ray, t_max, hit);
+        }
+        let inv_dir = ray.dir.recip();
+        self.bounded
+            .iter()
+            .enumerate()
+            .any(|(slot, inst)| inst.bounds.entered(ray.origin, inv_dir, t_max) && hit(slot, t_max))
     }
 
     fn bounds(&self) -> Aabb {
@@ -135,7 +180,7 @@ impl Group {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         let s = &self.surfaces;
-        let hit = s.bvh.traverse_any(ray, t_max, |slot, t_max| {
+        let hit = s.traverse_any(ray, t_max, |slot, t_max| {
             s.bounded[slot].occluded(ray, t_min, t_max, media)
         }) || s
             .unbounded
@@ -157,7 +202,7 @@ impl Group {
     ) -> Option<Hit> {
         let s = &self.surfaces;
         let mut best: Option<Hit> = None;
-        s.bvh.traverse(ray, t_max, |slot, t_max| {
+        s.traverse(ray, t_max, |slot, t_max| {
             let h = s.bounded[slot].intersect(ray, t_min, t_max, media)?;
             best = Some(h);
             Some(h.t)
@@ -264,5 +309,66 @@ mod tests {
         media.clear();
         assert!(!group.occluded(&towards, 0.0, 5.0, &mut media));
         assert_eq!(stretches(&media), [(0.0, 5.0)]);
+    }
+    /// A layer of a few surfaces asks an instance exactly when the walk of
+    /// its BVH would visit it: the box test in turn is one lane of the
+    /// node's test. Boxes meeting at faces, rays along the axes (zero
+    /// direction components, whose slab distances are NaN where the origin
+    /// lies on a face), rays through box corners (where only the test's
+    /// allowance for rounding keeps a ray in), from inside boxes, with a far
+    /// end before, on and past the boxes.
+    #[test]
+    fn a_few_surfaces_in_turn_are_asked_as_the_walk_asks_them() {
+        use crate::sampling::rng::numbers;
+        let mut r = numbers(4);
+        let mut asked = 0;
+        for count in 1..=FEW_SURFACES {
+            let balls = (0..count).map(|k| {
+                let center = Vec3::new(k as f32 * 2.0, (k % 2) as f32, 0.5 * k as f32);
+                Instance::new(Arc::new(ball(center, 1.0)), Placement::Identity)
+            });
+            let layer = Layer::new(balls.collect());
+            assert!(layer.few);
+            for i in 0..4000 {
+                let kind = i % 5;
+                let mut origin = Vec3::new(r() * 12.0 - 3.0, r() * 4.0 - 2.0, r() * 6.0 - 2.0);
+                let dir = if kind < 3 {
+                    // Along an axis, from a box face's plane half the time.
+                    let mut dir = Vec3::ZERO;
+                    dir[kind] = if r() < 0.5 { 1.0 } else { -1.0 };
+                    if r() < 0.5 {
+                        origin[(kind + 1) % 3] = [-1.0, 1.0, 2.0, 3.0][i % 4];
+                    }
+                    dir
+                } else if kind == 3 {
+                    // Through a box's corner, where the slabs' entry and
+                    // exit are one distance but for their roundings.
+                    let b = layer.bounded[i % count].bounds;
+                    let pick = glam::BVec3::new(r() < 0.5, r() < 0.5, r() < 0.5);
+                    Vec3::select(pick, b.min, b.max) - origin
+                } else {
+                    Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5)
+                };
+                let t_max = [0.5, 2.0, 1e3, f32::INFINITY][i / 4 % 4];
+                let mut by_walk = Vec::new();
+                layer
+                    .bvh
+                    .traverse(&Ray::new(origin, dir, 0.0), t_max, |slot, _| {
+                        by_walk.push(slot);
+                        None
+                    });
+                let mut in_turn = Vec::new();
+                layer.traverse(&Ray::new(origin, dir, 0.0), t_max, |slot, _| {
+                    in_turn.push(slot);
+                    None
+                });
+                by_walk.sort_unstable();
+                assert_eq!(in_turn, by_walk, "from {origin} along {dir} to {t_max}");
+                let any = layer.traverse_any(&Ray::new(origin, dir, 0.0), t_max, |_, _| true);
+                assert_eq!(any, !by_walk.is_empty());
+                asked += in_turn.len();
+            }
+        }
+        assert!(asked > 2000, "{asked}");
     }
 }

@@ -6,13 +6,11 @@
 
 use wide::{f32x4, CmpLe};
 
+use super::super::aabb::ROBUST;
 use super::super::{Aabb, Ray};
 
 /// Children per wide node.
 pub(super) const CHILDREN: usize = 8;
-/// The factor absorbing the rounding of the slab distances (robust
-/// traversal, Ize 2013), so rays grazing a box edge are not lost.
-const ROBUST: f32 = 1.0 + 2.0 * f32::EPSILON * 2.0;
 
 /// One wide node: per axis the lower and upper bounds of its eight children
 /// (`bounds[2 * axis]` lower, `bounds[2 * axis + 1]` upper; an unused lane is
