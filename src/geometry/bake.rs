@@ -10,7 +10,9 @@
 //! transforms then becomes plain primitives of the parent's set, one flat
 //! BVH, instead of instances each with its own matrix and hierarchy.
 //! Anything else (stretched or mirrored spheres, mirrored triangles, flipped
-//! spheres and triangles, meshes, motion, media) keeps its instance.
+//! spheres and triangles, meshes, motion, media) keeps its instance here;
+//! a mesh under a static transform gets its vertices placed instead
+//! (`build::placed_mesh_data`).
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 

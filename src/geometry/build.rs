@@ -1,6 +1,8 @@
 //! Builds the intersection structures of a [`Scene`]: walks the object tree,
 //! gathers analytic primitives of one space into flat arrays, composes nested
-//! static transforms into one matrix, and builds each prototype once. The
+//! static transforms into one matrix, places a mesh's vertices by its static
+//! transform (a copy of its arrays) rather than each ray by the inverse,
+//! and builds each prototype once. The
 //! same walk collects the emitters ([`Emitters`]) and gives each emissive
 //! primitive or triangle the [`LightId`] its hits carry.
 //!
@@ -382,13 +384,7 @@ impl Builder<'_> {
             Node::Lamp(_) => {}
             Node::Mesh { mesh, materials } => {
                 let data = self.mesh(*mesh, at.shift)?;
-                if materials.is_empty() {
-                    return Err(BuildError::MeshWithoutMaterial);
-                }
-                let lights = self.mesh_emitters(&data, materials, at);
-                let geometry =
-                    Geometry::Mesh(MeshGeometry::new(data, materials.clone()).with_lights(lights));
-                items.push(self.placed(geometry, Placement::Identity));
+                items.push(self.mesh_instance(data, materials, at)?);
             }
             Node::Group(children) => {
                 for c in children {
@@ -455,7 +451,8 @@ impl Builder<'_> {
 
     /// `child` placed by `matrix` (which has taken in the current space's
     /// move): shapes that survive the matrix exactly join this space's
-    /// primitives; anything else becomes a placed instance.
+    /// primitives, a mesh has its vertices placed by it
+    /// ([`placed_mesh_data`]), and anything else becomes a placed instance.
     fn placed_by(
         &mut self,
         matrix: Mat4,
@@ -464,15 +461,40 @@ impl Builder<'_> {
         prims: &mut Vec<Baked>,
         items: &mut Vec<Instance>,
     ) -> Result<(), BuildError> {
-        if !self.flatten(&matrix, child, at, prims) {
-            let inner_at = At {
-                to_space: at.to_space * Affine3A::from_mat4(matrix),
-                ..at.unmoved()
-            };
-            let inner = self.instance(std::iter::once(child), &inner_at)?;
-            items.push(self.transform(matrix, inner)?);
+        if self.flatten(&matrix, child, at, prims) {
+            return Ok(());
         }
+        if let Some((id, materials, m)) = placed_mesh(matrix, child) {
+            let data = self.mesh(id, Vec3::ZERO)?;
+            if let Some(placed) = placed_mesh_data(&data, &m) {
+                items.push(self.mesh_instance(Arc::new(placed), materials, at)?);
+                return Ok(());
+            }
+        }
+        let inner_at = At {
+            to_space: at.to_space * Affine3A::from_mat4(matrix),
+            ..at.unmoved()
+        };
+        let inner = self.instance(std::iter::once(child), &inner_at)?;
+        items.push(self.transform(matrix, inner)?);
         Ok(())
+    }
+
+    /// The mesh `data` in the current space, its slots mapped to
+    /// `materials`, placed as it stands.
+    fn mesh_instance(
+        &mut self,
+        data: Arc<MeshData>,
+        materials: &[MaterialId],
+        at: &At,
+    ) -> Result<Instance, BuildError> {
+        if materials.is_empty() {
+            return Err(BuildError::MeshWithoutMaterial);
+        }
+        let lights = self.mesh_emitters(&data, materials, at);
+        let geometry =
+            Geometry::Mesh(MeshGeometry::new(data, materials.to_vec()).with_lights(lights));
+        Ok(self.placed(geometry, Placement::Identity))
     }
 
     /// Mesh `id`'s data, its vertices moved by `shift` (a copy, made once).
@@ -638,6 +660,59 @@ fn moves_itself(shape: &Shape) -> bool {
                 ..
             }
     )
+}
+
+/// The mesh under `node` and the map placing it, `m` after the matrices of
+/// the transforms between: `node` is a mesh, or a static transform of one.
+fn placed_mesh(m: Mat4, node: &Node) -> Option<(MeshId, &[MaterialId], Mat4)> {
+    match node {
+        Node::Mesh { mesh, materials } => Some((*mesh, materials, m)),
+        Node::Transform { matrix, child } => placed_mesh(m * *matrix, child),
+        _ => None,
+    }
+}
+
+/// `data` with its vertices placed by the affine `m` and its normals by
+/// `m`'s normal matrix, so that the mesh is intersected
+/// where it stands with no transform per ray, as pbrt-v4 and Mitsuba place
+/// theirs. A copy per placement: the memory budget charges a mesh's arrays
+/// per placement already (`lang/eval/budget.rs`). `None`, leaving the mesh
+/// to an instance, when `m` turns the mesh inside out (a mirror reverses
+/// the winding that decides which side faces out) or is singular, or when
+/// a placed vertex or normal is not finite.
+fn placed_mesh_data(data: &MeshData, m: &Mat4) -> Option<MeshData> {
+    let affine = Affine3A::from_mat4(*m);
+    let det = affine.matrix3.determinant();
+    if !(det > 0.0 && det.is_finite()) {
+        return None;
+    }
+    // The normals are left unnormalised, so that their interpolation is
+    // the one an instance makes in its own space, turned; the normal
+    // matrix is scaled to a largest entry of one, which keeps them from
+    // overflowing or vanishing under tiny or huge scales.
+    let normal = affine.matrix3.inverse().transpose();
+    let largest = [normal.x_axis, normal.y_axis, normal.z_axis]
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f32::max);
+    let normal = normal * (1.0 / largest);
+    let positions: Vec<Vec3> = data
+        .positions
+        .iter()
+        .map(|&p| affine.transform_point3(p))
+        .collect();
+    let normals: Vec<Vec3> = data.normals.iter().map(|&n| normal.mul_vec3(n)).collect();
+    if !positions.iter().chain(&normals).all(|v| v.is_finite()) {
+        return None;
+    }
+    Some(MeshData {
+        positions,
+        normals,
+        uvs: data.uvs.clone(),
+        triangles: data.triangles.clone(),
+        triangle_material: data.triangle_material.clone(),
+        materials: data.materials.clone(),
+    })
 }
 
 /// `data` with every vertex moved by `shift`.
@@ -1044,5 +1119,159 @@ mod tests {
             }
         }
         assert_eq!((hits, stretches), (rays.len(), 1));
+    }
+    /// A mesh under static transforms is built with its vertices placed
+    /// (no instance) and hits as its instance by the same matrix does: the
+    /// same side out, distances and normals within roundings, an error box
+    /// that reaches the exactly placed surface, its emitters where it
+    /// stands. Turned, stretched, tiny and huge far from the origin; a
+    /// mirror keeps its instance.
+    #[test]
+    fn a_mesh_placed_by_a_transform_hits_as_its_instance() {
+        use crate::sampling::rng::numbers;
+        let (mut scene, light) = lit();
+        // An octahedron with outward vertex normals tilted off the faces'.
+        let positions = vec![
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+        ];
+        let normals = positions.iter().map(|p| *p + Vec3::splat(0.2)).collect();
+        let triangles = vec![
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        let data = Arc::new(MeshData {
+            positions,
+            normals,
+            triangles,
+            ..MeshData::default()
+        });
+        let mesh = scene.add_mesh(data.clone());
+        let turn = Mat4::from_rotation_y(0.7) * Mat4::from_rotation_x(-0.4);
+        let maps = [
+            (
+                turn * Mat4::from_scale(Vec3::new(2.0, 0.5, 1.3)),
+                Vec3::new(3.0, -1.0, 2.0),
+            ),
+            (
+                Mat4::from_scale(Vec3::splat(1e-5)),
+                Vec3::new(1e-4, 0.0, -2e-4),
+            ),
+            (
+                turn * Mat4::from_scale(Vec3::splat(3e3)),
+                Vec3::new(4e6, -2e6, 1e6),
+            ),
+            (Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)), Vec3::ONE),
+        ];
+        let mut r = numbers(12);
+        let mut hits = 0;
+        for (k, (linear, offset)) in maps.into_iter().enumerate() {
+            let m = Mat4::from_translation(offset) * linear;
+            let node = Node::Mesh {
+                mesh,
+                materials: vec![light],
+            };
+            // Two nested transforms, composed into one placement.
+            let half = Mat4::from_translation(offset * 0.5);
+            scene.objects = vec![Node::Transform {
+                matrix: half,
+                child: Box::new(Node::Transform {
+                    matrix: half.inverse() * m,
+                    child: Box::new(node),
+                }),
+            }];
+            let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
+            let mirrored = linear.determinant() < 0.0;
+            let placed = match &world.root {
+                Root::Bare(root) => matches!(**root, Geometry::Mesh(_)),
+                Root::Placed(_) => false,
+            };
+            assert_eq!(placed, !mirrored, "map {k}");
+            let by_instance = Instance::new(
+                Arc::new(Geometry::Mesh(MeshGeometry::new(data.clone(), vec![light]))),
+                Placement::fixed(m).expect("invertible"),
+            );
+            let size = linear.transform_vector3(Vec3::ONE).length();
+            for _ in 0..500 {
+                // At a point well inside a face, from outside the solid.
+                let face = data.triangles[(r() * 8.0) as usize % 8];
+                let (a, b) = (0.1 + 0.6 * r(), 0.1 + 0.6 * r());
+                let w = Vec3::new(1.0 - a.max(b), a.min(b), a.max(b) - a.min(b));
+                let local = face
+                    .iter()
+                    .zip(w.to_array())
+                    .fold(Vec3::ZERO, |p, (&i, w)| p + w * data.positions[i as usize]);
+                let target = m.transform_point3(local);
+                let md = m.as_dmat4();
+                let [p, q, c] =
+                    face.map(|i| md.transform_point3(data.positions[i as usize].as_dvec3()));
+                let n = (q - p).cross(c - p).normalize();
+                // Towards the face's outside, which the ray then meets
+                // first (the solid is convex; a mirror turns it inside),
+                // within 53° of the face's normal: along a grazing ray a
+                // rounding across the face moves the point far along it.
+                let inward = if mirrored { n } else { -n };
+                let spread = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 1.6;
+                let dir = (inward.as_vec3() + spread.clamp_length_max(0.8)).normalize();
+                let ray = Ray::new(target - 4.0 * size * dir, dir * size, 0.0);
+                let mut media = MediumSegments::default();
+                let a = world.intersect(&ray, 0.0, f32::INFINITY);
+                let b = by_instance.intersect(&ray, 0.0, f32::INFINITY, &mut media);
+                let (Some(a), Some(b)) = (a, b) else {
+                    assert!(a.is_none() && b.is_none(), "map {k}: {ray:?}");
+                    continue;
+                };
+                hits += 1;
+                assert_eq!(a.front_face, b.front_face, "map {k}");
+                // Both points on the face's exact plane, within roundings
+                // of the size and of the coordinates' spacing far from the
+                // origin.
+                let slack =
+                    1e-4 * size as f64 + 32.0 * f64::from(f32::EPSILON) * offset.length() as f64;
+                for h in [a, b] {
+                    let off = (h.point.as_dvec3() - p).dot(n).abs();
+                    assert!(off <= slack, "map {k}: {} off by {off}", h.point);
+                }
+                assert!(a.geo_normal.dot(b.geo_normal) > 0.9999, "map {k}");
+                // The shading normal stays on the side the ray meets. The
+                // instance checks that in its own space, which a stretch
+                // does not keep: there its turned normal may lean behind
+                // the face, and the placed mesh's is the face's own.
+                assert!(a.normal.dot(a.geo_normal) >= 0.0, "map {k}");
+                if b.normal.dot(b.geo_normal) >= 0.0 {
+                    assert!(a.normal.dot(b.normal) > 0.9999, "map {k}");
+                } else {
+                    assert_eq!(a.normal, a.geo_normal, "map {k}");
+                }
+                // The error box reaches the exactly placed face's plane.
+                let off = (a.point.as_dvec3() - p).dot(n).abs();
+                assert!(
+                    off <= n.abs().dot(a.error.as_dvec3()),
+                    "map {k}: off by {off}"
+                );
+                // The emitter hit stands where the face does.
+                let e = world.emitters().list[a.light.index().expect("an emitter")];
+                let Some(Emitter {
+                    shape: LightShape::Triangle { v, .. },
+                    ..
+                }) = e
+                else {
+                    panic!("map {k}: {e:?}");
+                };
+                let centre = (v[0] + v[1] + v[2]).as_dvec3() / 3.0;
+                assert!((centre - p).dot(n).abs() <= slack, "map {k}");
+            }
+        }
+        assert!(hits > 1800, "{hits}");
     }
 }
