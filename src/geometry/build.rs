@@ -1,10 +1,10 @@
 //! Builds the intersection structures of a [`Scene`]: walks the object tree,
 //! gathers analytic primitives of one space into flat arrays, composes nested
 //! static transforms into one matrix, places a mesh's vertices by its static
-//! transform (a copy of its arrays) rather than each ray by the inverse,
-//! and builds each prototype once. The
-//! same walk collects the emitters ([`Emitters`]) and gives each emissive
-//! primitive or triangle the [`LightId`] its hits carry.
+//! transform (a copy of its arrays) rather than each ray by the inverse, and
+//! builds each prototype once. The same walk collects the emitters
+//! ([`Emitters`]) and gives each emissive primitive or triangle the
+//! [`LightId`] its hits carry.
 //!
 //! The world is built in a frame whose origin is a chosen scene point,
 //! normally the camera's position (pbrt-v4's camera-world space): the walk
@@ -673,9 +673,9 @@ fn placed_mesh(m: Mat4, node: &Node) -> Option<(MeshId, &[MaterialId], Mat4)> {
 }
 
 /// `data` with its vertices placed by the affine `m` and its normals by
-/// `m`'s normal matrix, so that the mesh is intersected
-/// where it stands with no transform per ray, as pbrt-v4 and Mitsuba place
-/// theirs. A copy per placement: the memory budget charges a mesh's arrays
+/// `m`'s normal matrix, so that the mesh is intersected where it stands
+/// with no transform per ray, as pbrt-v4 and Mitsuba place theirs. A copy
+/// per placement: the memory budget charges a mesh's arrays
 /// per placement already (`lang/eval/budget.rs`). `None`, leaving the mesh
 /// to an instance, when `m` turns the mesh inside out (a mirror reverses
 /// the winding that decides which side faces out) or is singular, or when
