@@ -5,10 +5,11 @@
 //! translation and positive per-axis scale, a triangle under any affine map
 //! that keeps its orientation (positive determinant), and under any other
 //! invertible affine map a rect as one parallelogram and a box as its six
-//! faces; a flipped rect, box or parallelogram becomes parallelograms with
-//! their outsides reversed. A subtree of such shapes under groups, flips and
-//! transforms then becomes plain primitives of the parent's set, one flat
-//! BVH, instead of instances each with its own matrix and hierarchy.
+//! faces; a flipped rect stays a rect facing the other way, a flipped box
+//! or parallelogram becomes parallelograms with their outsides reversed. A
+//! subtree of such shapes under groups, flips and transforms then becomes
+//! plain primitives of the parent's set, one flat BVH, instead of instances
+//! each with its own matrix and hierarchy.
 //! Anything else (stretched or mirrored spheres, mirrored triangles, flipped
 //! spheres and triangles, meshes, motion, media) keeps its instance here;
 //! a mesh under a static transform gets its vertices placed instead
@@ -80,6 +81,10 @@ fn walk(m: &Mat4, node: &Node, flips: u32, out: &mut Vec<Baked>, light: &mut Lig
             }
             let mut faces = Vec::with_capacity(out.len() - start);
             for (p, material, id) in out.drain(start..) {
+                if let Primitive::Rect(r) = p {
+                    faces.push((Primitive::Rect(r.turned()), material, id));
+                    continue;
+                }
                 let Some(quads) = quads(&p, &Mat4::IDENTITY) else {
                     return false;
                 };
@@ -178,11 +183,10 @@ pub fn transformed(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
                 let map = |axis: u8, v: f32| scale[axis as usize] * v + t[axis as usize];
                 let span = |axis: u8, (lo, hi): (f32, f32)| (map(axis, lo), map(axis, hi));
                 one(Primitive::Rect(Rect {
-                    axis: r.axis,
-                    span: r.span,
                     a: span(r.span[0], r.a),
                     b: span(r.span[1], r.b),
                     k: map(r.axis, r.k),
+                    ..*r
                 }))
             }
         },
@@ -215,7 +219,7 @@ fn quads(p: &Primitive, m: &Mat4) -> Option<Vec<Primitive>> {
             corner[i] = r.a.0;
             corner[j] = r.b.0;
             let edges = [unit(i) * (r.a.1 - r.a.0), unit(j) * (r.b.1 - r.b.0)];
-            one(quad(m, corner, edges, unit(r.axis as usize))?)
+            one(quad(m, corner, edges, r.outward() * unit(r.axis as usize))?)
         }
         // Face `axis` of a cuboid has uv along the next two axes (cyclic).
         Primitive::Cuboid(c) => {
@@ -411,7 +415,7 @@ mod tests {
     }
 
     #[test]
-    fn a_flipped_rect_is_a_quad_facing_the_other_way_with_the_same_uv() {
+    fn a_flipped_rect_faces_the_other_way_with_the_same_uv() {
         let [sphere, rect, _, _] = shapes();
         let material = MaterialId(3);
         let shape = |p| match p {
@@ -439,17 +443,36 @@ mod tests {
             asked.push(flips);
             LightId::new(7)
         };
-        assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out, &mut light));
-        let [(Primitive::Quad(q), m, id)] = out[..] else {
-            panic!("not one quad: {out:?}")
+        // Flipped as it stands: a rect facing down. Turned by a quarter
+        // about x first: a parallelogram facing the other way (+z, not −z).
+        let turn = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+        let turned = Node::Transform {
+            matrix: turn,
+            child: Box::new(flip(rect)),
         };
-        assert_eq!((q.normal, m, id), (-Vec3::Y, material, LightId::new(7)));
-        let ray = Ray::new(Vec3::new(0.5, 3.0, 1.0), -Vec3::Y, 0.0);
-        let (want, got) = (
-            rect.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
-            q.intersect(&ray, 0.0, f32::INFINITY).expect("hits"),
+        assert!(flatten(&Mat4::IDENTITY, &flip(rect), &mut out, &mut light));
+        assert!(flatten(&Mat4::IDENTITY, &turned, &mut out, &mut light));
+        let [(Primitive::Rect(r), m, id), (Primitive::Quad(q), _, _)] = out[..] else {
+            panic!("not a rect and a quad: {out:?}")
+        };
+        assert!(r.flipped);
+        assert_eq!((m, id), (material, LightId::new(7)));
+        let down = Ray::new(Vec3::new(0.5, 3.0, 1.0), -Vec3::Y, 0.0);
+        let want = rect.intersect(&down, 0.0, f32::INFINITY).expect("hits");
+        let got = r.intersect(&down, 0.0, f32::INFINITY).expect("hits");
+        assert_eq!(
+            (want.t, want.point, want.uv.get()),
+            (got.t, got.point, got.uv.get())
         );
-        assert_eq!((want.t, want.point), (got.t, got.point));
+        assert_eq!((want.normal, got.normal), (Vec3::Y, -Vec3::Y));
+        assert!((q.normal - turn.transform_vector3(-Vec3::Y)).length() < 1e-6);
+        let back = Ray::new(
+            turn.transform_point3(down.origin),
+            turn.transform_vector3(down.dir),
+            0.0,
+        );
+        let got = q.intersect(&back, 0.0, f32::INFINITY).expect("hits");
+        assert!((want.t - got.t).abs() < 1e-5);
         assert!((want.uv.get() - got.uv.get()).abs().max_element() < 1e-6);
         // A flipped sphere would need its uv mirrored: it keeps its instance.
         assert!(!flatten(
@@ -458,8 +481,8 @@ mod tests {
             &mut out,
             &mut light
         ));
-        assert_eq!(out.len(), 1);
-        assert_eq!(asked, [1, 1]);
+        assert_eq!(out.len(), 2);
+        assert_eq!(asked, [1, 1, 1]);
     }
 
     #[test]

@@ -63,7 +63,7 @@ impl Faces {
                 Primitive::Rect(r) => {
                     let axis = r.axis as usize;
                     set(RECT, &[1.0]);
-                    set(NORMAL + axis, &[1.0]);
+                    set(NORMAL + axis, &[r.outward()]);
                     set(CORNER + axis, &[r.k]);
                 }
                 Primitive::Quad(q) => {

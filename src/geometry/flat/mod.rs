@@ -503,9 +503,10 @@ mod tests {
     use crate::sampling::rng::numbers;
     use crate::scene::object::RectPlane;
 
-    /// Rects in all three planes and turned parallelograms around `at`,
-    /// `size` across: 18 rects and 22 parallelograms (40, the most a set
-    /// packs), so packs of eight and of sixteen are full and partial.
+    /// Rects in all three planes, facing either way, and turned
+    /// parallelograms around `at`, `size` across: 18 rects and 22
+    /// parallelograms (40, the most a set packs), so packs of eight and of
+    /// sixteen are full and partial.
     fn faces(at: Vec3, size: f32, r: &mut impl FnMut() -> f32) -> Vec<Primitive> {
         let mut out = Vec::new();
         for (i, plane) in [RectPlane::Xy, RectPlane::Xz, RectPlane::Yz]
@@ -522,12 +523,13 @@ mod tests {
                 RectPlane::Xz => (at.x, at.z),
                 RectPlane::Yz => (at.y, at.z),
             };
-            out.push(Primitive::Rect(Rect::new(
-                plane,
-                (a + span.0, a + span.1),
-                (b + span.0, b + span.1),
-                k,
-            )));
+            let rect = Rect::new(plane, (a + span.0, a + span.1), (b + span.0, b + span.1), k);
+            // Every other one facing −axis.
+            out.push(Primitive::Rect(if i % 3 == 1 {
+                rect.turned()
+            } else {
+                rect
+            }));
         }
         while out.len() < MAX_FACES {
             let v = |r: &mut dyn FnMut() -> f32| Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * size;

@@ -9,12 +9,16 @@ use crate::scene::object::RectPlane;
 
 /// The rectangle `a.0..a.1 × b.0..b.1` in the plane `axis = k`; the other two
 /// axes, in order, are `(axis + 1) % 3`-style pairs fixed by [`RectPlane`].
+/// Its outside faces +axis, or −axis when `flipped`: a flipped rect (a lamp
+/// facing down) stays a rect, whose test is cheaper than a parallelogram's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rect {
     /// The axis normal to the rectangle.
     pub axis: u8,
     /// The axes spanned by `a` and `b`.
     pub span: [u8; 2],
+    /// Whether the outside faces −axis.
+    pub flipped: bool,
     pub a: (f32, f32),
     pub b: (f32, f32),
     pub k: f32,
@@ -30,6 +34,7 @@ impl Rect {
         Rect {
             axis,
             span,
+            flipped: false,
             a: (a.0.min(a.1), a.0.max(a.1)),
             b: (b.0.min(b.1), b.0.max(b.1)),
             k,
@@ -48,7 +53,25 @@ impl Rect {
         Aabb::new(lo, hi)
     }
 
-    /// The hit with `t` in `(t_min, t_max)`; the outward normal is +axis.
+    /// The same rectangle and uv with its outside on the other side.
+    pub fn turned(&self) -> Rect {
+        Rect {
+            flipped: !self.flipped,
+            ..*self
+        }
+    }
+
+    /// The outward normal's component along `axis`: 1, or −1 when flipped.
+    #[inline(always)]
+    pub fn outward(&self) -> f32 {
+        if self.flipped {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+
+    /// The hit with `t` in `(t_min, t_max)`; the outward normal is ±axis.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<ShapeHit> {
         let c = self.crossing(ray, t_min, t_max)?;
@@ -89,7 +112,7 @@ impl Rect {
         let (i, j) = (self.span[0] as usize, self.span[1] as usize);
         let (x, y) = (point[i], point[j]);
         let point = Vec3::select(on, Vec3::splat(self.k), point);
-        let normal = Vec3::select(on, Vec3::ONE, Vec3::ZERO);
+        let normal = Vec3::select(on, Vec3::splat(self.outward()), Vec3::ZERO);
         // The coordinate along the normal is exact; the others come from
         // `ray.at(t)` with a rounded `t`.
         let error = gamma(4) * (ray.origin.abs() + (t * ray.dir).abs());
