@@ -82,7 +82,7 @@ fn walk(m: &Mat4, node: &Node, flips: u32, out: &mut Vec<Baked>, light: &mut Lig
             let mut faces = Vec::with_capacity(out.len() - start);
             for (p, material, id) in out.drain(start..) {
                 if let Primitive::Rect(r) = p {
-                    faces.push((Primitive::Rect(r.turned()), material, id));
+                    faces.push((Primitive::Rect(r.flipped()), material, id));
                     continue;
                 }
                 let Some(quads) = quads(&p, &Mat4::IDENTITY) else {
@@ -455,7 +455,7 @@ mod tests {
         let [(Primitive::Rect(r), m, id), (Primitive::Quad(q), _, _)] = out[..] else {
             panic!("not a rect and a quad: {out:?}")
         };
-        assert!(r.flipped);
+        assert!(r.reversed);
         assert_eq!((m, id), (material, LightId::new(7)));
         let down = Ray::new(Vec3::new(0.5, 3.0, 1.0), -Vec3::Y, 0.0);
         let want = rect.intersect(&down, 0.0, f32::INFINITY).expect("hits");

@@ -675,8 +675,8 @@ fn placed_mesh(m: Mat4, node: &Node) -> Option<(MeshId, &[MaterialId], Mat4)> {
 /// `data` with its vertices placed by the affine `m` and its normals by
 /// `m`'s normal matrix, so that the mesh is intersected where it stands
 /// with no transform per ray, as pbrt-v4 and Mitsuba place theirs. A copy
-/// per placement: the memory budget charges a mesh's arrays
-/// per placement already (`lang/eval/budget.rs`). `None`, leaving the mesh
+/// per placement: the memory budget charges a mesh's arrays per placement
+/// already (`lang/eval/budget.rs`). `None`, leaving the mesh
 /// to an instance, when `m` turns the mesh inside out (a mirror reverses
 /// the winding that decides which side faces out) or is singular, or when
 /// a placed vertex or normal is not finite.
@@ -1120,6 +1120,7 @@ mod tests {
         }
         assert_eq!((hits, stretches), (rays.len(), 1));
     }
+
     /// A mesh under static transforms is built with its vertices placed
     /// (no instance) and hits as its instance by the same matrix does: the
     /// same side out, distances and normals within roundings, an error box

@@ -90,9 +90,6 @@ struct Layer {
     bounded: Vec<Instance>,
     unbounded: Vec<Instance>,
     bvh: Bvh,
-    /// At most [`FEW_SURFACES`] bounded instances: asked in turn, in BVH
-    /// order, rather than walked.
-    few: bool,
 }
 
 impl Layer {
@@ -101,13 +98,19 @@ impl Layer {
             instances.into_iter().partition(|i| i.bounds.is_bounded());
         let boxes: Vec<Aabb> = bounded.iter().map(|i| i.bounds).collect();
         let (bvh, order) = Bvh::build(&boxes);
-        let bounded: Vec<Instance> = order.iter().map(|&i| bounded[i as usize].clone()).collect();
+        let bounded = order.iter().map(|&i| bounded[i as usize].clone()).collect();
         Layer {
-            few: bounded.len() <= FEW_SURFACES,
             bounded,
             unbounded,
             bvh,
         }
+    }
+
+    /// Whether the bounded instances are at most [`FEW_SURFACES`]: asked in
+    /// turn, in BVH order, rather than walked.
+    #[inline(always)]
+    fn few(&self) -> bool {
+        self.bounded.len() <= FEW_SURFACES
     }
 
     /// Visits the bounded instances whose boxes the ray enters within
@@ -115,7 +118,7 @@ impl Layer {
     /// [`Bvh::traverse`]: a few in turn, more by the BVH.
     #[inline(always)]
     fn traverse(&self, ray: &Ray, t_max: f32, mut visit: impl FnMut(usize, f32) -> Option<f32>) {
-        if !self.few {
+        if !self.few() {
             return self.bvh.traverse(ray, t_max, visit);
         }
         let inv_dir = ray.dir.recip();
@@ -134,7 +137,7 @@ impl Layer {
     /// by the BVH.
     #[inline(always)]
     fn traverse_any(&self, ray: &Ray, t_max: f32, mut hit: impl FnMut(usize, f32) -> bool) -> bool {
-        if !self.few {
+        if !self.few() {
             return self.bvh.traverse_any(ray, t_max, hit);
         }
         let inv_dir = ray.dir.recip();
@@ -314,6 +317,7 @@ mod tests {
         assert!(!group.occluded(&towards, 0.0, 5.0, &mut media));
         assert_eq!(stretches(&media), [(0.0, 5.0)]);
     }
+
     /// A layer of a few surfaces asks an instance exactly when the walk of
     /// its BVH would visit it: the box test in turn is one lane of the
     /// node's test. Boxes meeting at faces, rays along the axes (zero
@@ -332,7 +336,7 @@ mod tests {
                 Instance::new(Arc::new(ball(center, 1.0)), Placement::Identity)
             });
             let layer = Layer::new(balls.collect());
-            assert!(layer.few);
+            assert!(layer.few());
             for i in 0..4000 {
                 let kind = i % 5;
                 let mut origin = Vec3::new(r() * 12.0 - 3.0, r() * 4.0 - 2.0, r() * 6.0 - 2.0);

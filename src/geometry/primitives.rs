@@ -32,8 +32,6 @@ pub struct PrimitiveSet {
     /// its leaf order numbers the slots, which break ties between faces at
     /// one distance, and it holds the bounds.
     flat: Option<FlatFaces>,
-    /// At most [`FEW_PRIMITIVES`]: tested in turn, one after another.
-    few: bool,
 }
 
 /// Sets of at most this many primitives are tested in turn, with neither a
@@ -75,10 +73,12 @@ impl PrimitiveSet {
             leaf.filter(|l| l.len() > 1)
                 .map(|l: Vec<Sphere>| SphereLeaf::new(&l))
         });
-        let few = prims.len() <= FEW_PRIMITIVES;
-        let flat = if few { None } else { FlatFaces::new(&prims) };
+        let flat = if prims.len() <= FEW_PRIMITIVES {
+            None
+        } else {
+            FlatFaces::new(&prims)
+        };
         PrimitiveSet {
-            few,
             prims,
             materials,
             lights,
@@ -90,6 +90,13 @@ impl PrimitiveSet {
 
     pub fn bounds(&self) -> Aabb {
         self.bvh.bounds()
+    }
+
+    /// Whether the set holds at most [`FEW_PRIMITIVES`], tested in turn,
+    /// one after another.
+    #[inline(always)]
+    fn few(&self) -> bool {
+        self.prims.len() <= FEW_PRIMITIVES
     }
 
     /// The nearest hit in `(t_min, t_max)` and the slot of its primitive,
@@ -149,7 +156,7 @@ impl PrimitiveSet {
     /// flat set's hit is written once, into the caller's result.
     #[inline(always)]
     pub fn intersect_facing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        if self.few {
+        if self.few() {
             return self.in_turn(ray, t_min, t_max);
         }
         if let Some(flat) = &self.flat {
@@ -373,7 +380,7 @@ impl PrimitiveSet {
     /// Whether any primitive is hit with `t` in `(t_min, t_max)`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        if self.few {
+        if self.few() {
             return self
                 .prims
                 .iter()
@@ -492,6 +499,7 @@ mod tests {
         }
         assert!(ties > 20 && hits > 1000, "{ties} ties, {hits} hits");
     }
+
     /// A set of a few primitives, tested in turn, finds what a packet finds:
     /// each ray's least (t, slot), the lower slot where two faces meet the
     /// ray at one distance (a lamp lying on its floor), with the same bits;
@@ -531,12 +539,9 @@ mod tests {
         let (mut ties, mut hits) = (0, 0);
         for prims in sets {
             let items = prims.iter().enumerate();
-            let set = PrimitiveSet::new(
-                items
-                    .map(|(k, p)| (*p, MaterialId(k as u32), LightId::NONE))
-                    .collect(),
-            );
-            assert!(set.few && !set.is_flat());
+            let items = items.map(|(k, p)| (*p, MaterialId(k as u32), LightId::NONE));
+            let set = PrimitiveSet::new(items.collect());
+            assert!(set.few() && !set.is_flat());
             for _ in 0..3000 {
                 let from = Vec3::new(r() * 8.0 - 4.0, r() * 4.0 - 0.5, r() * 8.0 - 4.0);
                 let to = Vec3::new(r() * 6.0 - 3.0, r() * 2.0 - 0.5, r() * 6.0 - 3.0);

@@ -525,8 +525,8 @@ mod tests {
             };
             let rect = Rect::new(plane, (a + span.0, a + span.1), (b + span.0, b + span.1), k);
             // Every other one facing −axis.
-            out.push(Primitive::Rect(if i % 3 == 1 {
-                rect.turned()
+            out.push(Primitive::Rect(if i % 2 == 1 {
+                rect.flipped()
             } else {
                 rect
             }));

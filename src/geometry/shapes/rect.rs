@@ -9,7 +9,7 @@ use crate::scene::object::RectPlane;
 
 /// The rectangle `a.0..a.1 × b.0..b.1` in the plane `axis = k`; the other two
 /// axes, in order, are `(axis + 1) % 3`-style pairs fixed by [`RectPlane`].
-/// Its outside faces +axis, or −axis when `flipped`: a flipped rect (a lamp
+/// Its outside faces +axis, or −axis when `reversed`: a flipped rect (a lamp
 /// facing down) stays a rect, whose test is cheaper than a parallelogram's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rect {
@@ -18,7 +18,7 @@ pub struct Rect {
     /// The axes spanned by `a` and `b`.
     pub span: [u8; 2],
     /// Whether the outside faces −axis.
-    pub flipped: bool,
+    pub reversed: bool,
     pub a: (f32, f32),
     pub b: (f32, f32),
     pub k: f32,
@@ -34,7 +34,7 @@ impl Rect {
         Rect {
             axis,
             span,
-            flipped: false,
+            reversed: false,
             a: (a.0.min(a.1), a.0.max(a.1)),
             b: (b.0.min(b.1), b.0.max(b.1)),
             k,
@@ -53,18 +53,19 @@ impl Rect {
         Aabb::new(lo, hi)
     }
 
-    /// The same rectangle and uv with its outside on the other side.
-    pub fn turned(&self) -> Rect {
+    /// The same rectangle and uv with its outside on the other side (as
+    /// [`super::Quad::flipped`]).
+    pub fn flipped(&self) -> Rect {
         Rect {
-            flipped: !self.flipped,
+            reversed: !self.reversed,
             ..*self
         }
     }
 
-    /// The outward normal's component along `axis`: 1, or −1 when flipped.
+    /// The outward normal's component along `axis`: 1, or −1 when reversed.
     #[inline(always)]
     pub fn outward(&self) -> f32 {
-        if self.flipped {
+        if self.reversed {
             -1.0
         } else {
             1.0
