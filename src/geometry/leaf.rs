@@ -115,6 +115,13 @@ impl SphereLeaf {
         }
     }
 
+    /// Lane `i`'s sphere: its centre and radius.
+    #[inline(always)]
+    pub fn sphere(&self, i: usize) -> (Vec3, f32) {
+        let [x, y, z] = self.center.map(|row| row.as_array_ref()[i]);
+        (Vec3::new(x, y, z), self.radius.as_array_ref()[i])
+    }
+
     /// The lanes (bit `i` for lane `i`) whose sphere neither early test of
     /// [`Sphere::crossing`] rejects for `ray`: the miss test and
     /// [`Sphere::departs`].

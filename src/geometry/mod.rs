@@ -20,6 +20,7 @@ pub mod ray;
 pub mod revolution;
 pub mod segments;
 pub mod shapes;
+pub mod sphere_rays;
 pub mod sweep;
 pub mod tangents;
 pub mod uv;

@@ -12,6 +12,7 @@ use super::hit::facing_flat;
 use super::leaf::{slots, Packs, SphereLeaf};
 use super::primitive::Primitive;
 use super::shapes::{Crossing, ShapeHit, Sphere};
+use super::sphere_rays::SphereRays;
 use super::{Aabb, Bvh, Hit, Ray};
 use crate::scene::MaterialId;
 use crate::simd::LANES;
@@ -225,12 +226,33 @@ impl PrimitiveSet {
                 t_max[k] = c.t;
             }
         };
+        let mut sphere_rays = None;
         self.bvh.traverse_packet(
             rays,
             &mut t_max,
             #[inline(always)]
             |first, count, mask, t_max| {
                 if let Some(leaf) = self.spheres.get(first) {
+                    if mask.count_ones() as usize > count {
+                        // More rays than spheres: a pass per sphere.
+                        if sphere_rays.is_none() {
+                            sphere_rays = Some(SphereRays::new(rays));
+                        }
+                        let Some(lanes) = &sphere_rays else { return };
+                        for i in 0..count {
+                            let (center, radius) = leaf.sphere(i);
+                            let kept = lanes.candidates(center, radius) & mask;
+                            if kept == 0 {
+                                continue;
+                            }
+                            let (found, t, root) = lanes.crossings(center, radius, t_min);
+                            for k in bits(found & kept) {
+                                let data = glam::Vec3::new(root[k], 0.0, 0.0);
+                                keep(k, first + i, Crossing { t: t[k], data }, t_max);
+                            }
+                        }
+                        return;
+                    }
                     for k in bits(mask) {
                         let ray = &rays[k];
                         let lanes = leaf.candidates(ray);
@@ -504,7 +526,8 @@ mod tests {
     /// each ray's least (t, slot), the lower slot where two faces meet the
     /// ray at one distance (a lamp lying on its floor), with the same bits;
     /// and a shadow ray is blocked exactly when a hit is found before its
-    /// end. Sets of two to four rects, parallelograms, spheres and triangles.
+    /// end. Sets of two to four rects, parallelograms, spheres and
+    /// triangles, each ray traced alone and in packets of up to eight.
     #[test]
     fn a_few_primitives_in_turn_find_each_rays_least_crossing() {
         use crate::geometry::shapes::{Quad, Rect};
@@ -530,11 +553,21 @@ mod tests {
             Vec3::new(2.0, 0.3, 1.5),
         ];
         let triangle = Primitive::Triangle(Triangle { v });
-        let sets: [&[Primitive]; 4] = [
+        let ground = Primitive::Sphere(Sphere {
+            center: Vec3::new(0.0, -1000.0, 0.0),
+            radius: 1000.0,
+        });
+        let other = Primitive::Sphere(Sphere {
+            center: Vec3::new(0.2, 1.0, -0.5),
+            radius: 0.6,
+        });
+        let sets: [&[Primitive]; 6] = [
             &[floor, lamp],
             &[lamp, floor, tilted],
             &[floor, tilted, ball, triangle],
             &[ball, triangle],
+            &[ground, ball, other],
+            &[ball, other],
         ];
         let (mut ties, mut hits) = (0, 0);
         for prims in sets {
@@ -542,7 +575,8 @@ mod tests {
             let items = items.map(|(k, p)| (*p, MaterialId(k as u32), LightId::NONE));
             let set = PrimitiveSet::new(items.collect());
             assert!(set.few() && !set.is_flat());
-            for _ in 0..3000 {
+            let mut rays = Vec::new();
+            for k in 0..3000 {
                 let from = Vec3::new(r() * 8.0 - 4.0, r() * 4.0 - 0.5, r() * 8.0 - 4.0);
                 let to = Vec3::new(r() * 6.0 - 3.0, r() * 2.0 - 0.5, r() * 6.0 - 3.0);
                 let ray = Ray::new(from, to - from, 0.0);
@@ -550,6 +584,17 @@ mod tests {
                 let mut packet = [None];
                 set.first_hits(std::slice::from_ref(&ray), 0.0, &mut packet);
                 assert_eq!(bits(&one), bits(&packet[0]), "{ray:?}");
+                // Packets of one to eight rays (more rays than spheres take
+                // a pass per sphere) find each ray's own hit.
+                rays.push((ray, one));
+                if rays.len() > (k / LANES) % LANES {
+                    let mut packet = [None; LANES];
+                    let only: Vec<Ray> = rays.iter().map(|(ray, _)| *ray).collect();
+                    set.first_hits(&only, 0.0, &mut packet[..rays.len()]);
+                    for ((ray, one), hit) in rays.drain(..).zip(packet) {
+                        assert_eq!(bits(&one), bits(&hit), "{ray:?} in a packet");
+                    }
+                }
                 let crossings: Vec<f32> = (0..set.prims.len())
                     .filter_map(|s| Some(set.prims[s].crossing(&ray, 0.0, f32::INFINITY)?.t))
                     .collect();

@@ -197,6 +197,18 @@ impl Bvh {
         me as u32
     }
 
+    /// The one leaf as `(first slot, count)` when the whole tree is one
+    /// leaf (the root's only lane).
+    #[inline(always)]
+    fn single_leaf(&self) -> Option<(usize, usize)> {
+        let [root] = self.nodes.as_slice() else {
+            return None;
+        };
+        // An unused lane's word is 0, which names the root: never a child.
+        let alone = root.child[1..].iter().all(|&w| w == 0);
+        (root.child[0] & LEAF != 0 && alone).then(|| leaf_range(root.child[0]))
+    }
+
     /// The leaves as `(first slot, count)`, each once, in no set order.
     pub fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.nodes

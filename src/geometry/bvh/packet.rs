@@ -99,9 +99,16 @@ impl Bvh {
         t_max: &mut [f32; LANES],
         mut visit: impl FnMut(usize, usize, u32, &mut [f32; LANES]),
     ) {
+        let live = (1u32 << rays.len()) - 1;
+        if let Some((first, count)) = self.single_leaf() {
+            // A few primitives in one leaf: its box culls no ray that the
+            // leaf's own tests would keep, so the rays meet it at once,
+            // without a box to set up for each.
+            visit(first, count, live, t_max);
+            return;
+        }
         let box_rays: [BoxRay; LANES] =
             std::array::from_fn(|r| BoxRay::new(&rays[r.min(rays.len() - 1)]));
-        let live = (1u32 << rays.len()) - 1;
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
         let mut current = Some((0u32, live));
         while let Some((index, mask)) = current.take().or_else(|| stack.pop()) {
