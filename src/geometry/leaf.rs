@@ -222,11 +222,14 @@ impl SphereLeaf {
 pub struct TriangleLeaf {
     v: [[f32x4; 3]; 3],
     used: u32,
+    /// The slot of lane 0 (in the padding the vectors' alignment leaves).
+    first: u32,
 }
 
 impl TriangleLeaf {
-    /// The leaf of `triangles` (at most four are kept).
-    pub fn new(triangles: &[[Vec3; 3]]) -> TriangleLeaf {
+    /// The leaf of `triangles` (at most four are kept), the first of them
+    /// in slot `first`.
+    pub fn new(first: usize, triangles: &[[Vec3; 3]]) -> TriangleLeaf {
         let mut v = [[[0.0f32; LANES]; 3]; 3];
         for (lane, t) in triangles.iter().take(LANES).enumerate() {
             for (k, p) in t.iter().enumerate() {
@@ -238,7 +241,14 @@ impl TriangleLeaf {
         TriangleLeaf {
             v: v.map(|p| p.map(f32x4::from)),
             used: all_lanes(triangles.len()),
+            first: first as u32,
         }
+    }
+
+    /// The slot of the leaf's first triangle.
+    #[inline(always)]
+    pub fn first(&self) -> usize {
+        self.first as usize
     }
 
     /// The nearest lane hit with `t` in `(t_min, t_max)` and its hit, as
@@ -495,7 +505,7 @@ mod tests {
             let size = [1e-2, 1.0, 30.0, 3e13][group % 4];
             let rim: Vec<Vec3> = (0..=count).map(|_| hub + unit(&mut r) * size).collect();
             let tris: Vec<[Vec3; 3]> = (0..count).map(|i| [hub, rim[i], rim[i + 1]]).collect();
-            let leaf = TriangleLeaf::new(&tris);
+            let leaf = TriangleLeaf::new(0, &tris);
             for k in 0..60 {
                 let t = tris[k % count];
                 let w = Vec3::new(r(), r(), r());

@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
-use super::leaf::{Packs, TriangleLeaf};
+use super::leaf::TriangleLeaf;
 use super::shapes::triangle::{unit_normal, ShearedRay, TriangleHit};
 use super::shapes::ShapeHit;
 use super::tangents::{self, Tangents};
@@ -28,9 +28,10 @@ pub struct MeshGeometry {
     materials: Vec<MaterialId>,
     /// Light id of each triangle (by index in `data`); empty when none emits.
     lights: Vec<LightId>,
+    /// The hierarchy, its leaves numbered by their place in `leaves`.
     bvh: Bvh,
     /// Every leaf's triangles packed for a four-lane coverage test.
-    leaves: Packs<TriangleLeaf>,
+    leaves: Vec<TriangleLeaf>,
 }
 
 /// A mesh hit: the surface hit with the shading normal, the material and
@@ -56,15 +57,19 @@ impl MeshGeometry {
                 Aabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let (bvh, order) = Bvh::build_leaves(&bounds, Leaves::Packed);
+        let (mut bvh, order) = Bvh::build_leaves(&bounds, Leaves::Packed);
         let slot_triangles: Vec<[u32; 3]> =
             order.iter().map(|&t| data.triangles[t as usize]).collect();
-        let leaves = Packs::new(&bvh, slot_triangles.len(), |first, count| {
+        // The packs in the order the leaves are listed (the nodes', so
+        // nearby leaves lie nearby), each leaf numbered by its pack.
+        let mut leaves = Vec::new();
+        bvh.number_leaves(|first, count| {
             let tris: Vec<[Vec3; 3]> = slot_triangles[first..first + count]
                 .iter()
                 .map(|t| t.map(|i| data.positions[i as usize]))
                 .collect();
-            Some(TriangleLeaf::new(&tris))
+            leaves.push(TriangleLeaf::new(first, &tris));
+            (leaves.len() - 1) as u32
         });
         MeshGeometry {
             leaves,
@@ -92,7 +97,7 @@ impl MeshGeometry {
             + self.order.len() * 4
             + self.slot_triangles.len() * 12
             + self.lights.len() * 4
-            + self.leaves.memory()
+            + self.leaves.len() * std::mem::size_of::<TriangleLeaf>()
     }
 
     /// The scalar watertight test of the triangle in leaf slot `slot`.
@@ -118,13 +123,12 @@ impl MeshGeometry {
             ray,
             t_max,
             #[inline(always)]
-            |first, count, t_max| {
+            |pack, _, t_max| {
                 let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
+                let leaf = &self.leaves[pack];
+                let first = leaf.first();
                 let scalar = |lane, t_max| self.test(sheared, first + lane, t_min, t_max).is_some();
-                match self.leaves.get(first) {
-                    Some(leaf) => leaf.any(sheared, t_min, t_max, scalar),
-                    None => (0..count).any(|lane| scalar(lane, t_max)),
-                }
+                leaf.any(sheared, t_min, t_max, scalar)
             },
         )
     }
@@ -150,17 +154,12 @@ impl MeshGeometry {
             ray,
             t_max,
             #[inline(always)]
-            |first, count, t_max| {
+            |pack, _, t_max| {
                 let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
+                let leaf = &self.leaves[pack];
+                let first = leaf.first();
                 let scalar = |lane, t_max| self.test(sheared, first + lane, t_min, t_max);
-                let found = match self.leaves.get(first) {
-                    Some(leaf) => leaf.nearest(sheared, t_min, t_max, scalar),
-                    None => (0..count).fold(None, |best, lane| {
-                        let limit = best.map_or(t_max, |(_, h): (usize, TriangleHit)| h.t);
-                        scalar(lane, limit).map(|h| (lane, h)).or(best)
-                    }),
-                };
-                let (lane, h) = found?;
+                let (lane, h) = leaf.nearest(sheared, t_min, t_max, scalar)?;
                 best = Some((first + lane, h));
                 Some(h.t)
             },

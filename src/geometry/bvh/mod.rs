@@ -209,6 +209,25 @@ impl Bvh {
         (root.child[0] & LEAF != 0 && alone).then(|| leaf_range(root.child[0]))
     }
 
+    /// Gives each leaf `number(first, count)` (below 2^29) in place of its
+    /// first slot, visiting the leaves as [`Bvh::leaves`] lists them: the
+    /// walks then pass a leaf's number where they passed its first slot. A
+    /// caller whose leaves all have a packed form numbers them by their
+    /// place in its array of packs, and finds a leaf's pack with no table
+    /// from slots to packs (a load fewer per leaf visited).
+    pub fn number_leaves(&mut self, mut number: impl FnMut(usize, usize) -> u32) {
+        for node in &mut self.nodes {
+            for word in &mut node.child {
+                if *word & LEAF != 0 {
+                    let (first, count) = leaf_range(*word);
+                    let n = number(first, count);
+                    assert!(n <= SLOT_MASK, "a leaf number fits in 29 bits");
+                    *word = (*word & !SLOT_MASK) | n;
+                }
+            }
+        }
+    }
+
     /// The leaves as `(first slot, count)`, each once, in no set order.
     pub fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.nodes
@@ -563,6 +582,68 @@ mod tests {
             hits += usize::from(expected.is_some());
         }
         assert!(hits > 100, "the test rays mostly miss: {hits}");
+    }
+
+    /// Numbered leaves are walked as before: each visit passes the number
+    /// given to the leaf it passed before, with its count, in the same
+    /// order and with the same `t_max`, for the closest-hit and the
+    /// any-hit walks.
+    #[test]
+    fn numbered_leaves_are_walked_as_their_slots_were() {
+        let mut r = numbers(5);
+        let boxes = random_boxes(&mut r, 900, 0.6);
+        let (bvh, order) = Bvh::build_leaves(&boxes, Leaves::Packed);
+        let mut numbered = bvh.clone();
+        let mut firsts = Vec::new();
+        numbered.number_leaves(|first, count| {
+            firsts.push((first, count));
+            // Numbers unlike the slots: from the top down.
+            (10_000 - firsts.len()) as u32
+        });
+        let slot_of = |n: usize| firsts[10_000 - 1 - n];
+        assert_eq!(firsts.len(), bvh.leaves().count());
+        let (mut visits, mut any) = (0, 0);
+        for _ in 0..300 {
+            let (ray, inv) = random_ray(&mut r);
+            let entry = |slot: usize| {
+                boxes[order[slot] as usize]
+                    .hit(&ray, inv, 0.0, f32::INFINITY)
+                    .filter(|&t| t > 0.0)
+            };
+            // A leaf's "hit": its slots' nearest entry.
+            let leaf_hit = |first: usize, count: usize, t_max: f32| {
+                (first..first + count)
+                    .filter_map(entry)
+                    .filter(|&t| t < t_max)
+                    .reduce(f32::min)
+            };
+            let mut before = Vec::new();
+            bvh.traverse_leaves(&ray, f32::INFINITY, |first, count, t_max| {
+                before.push((first, count, t_max));
+                leaf_hit(first, count, t_max)
+            });
+            let mut after = Vec::new();
+            numbered.traverse_leaves(&ray, f32::INFINITY, |n, count, t_max| {
+                let (first, listed) = slot_of(n);
+                assert_eq!(count, listed);
+                after.push((first, count, t_max));
+                leaf_hit(first, count, t_max)
+            });
+            assert_eq!(before, after);
+            visits += before.len();
+            for end in [1.0, 10.0, f32::INFINITY] {
+                let blocked = bvh.traverse_any_leaves(&ray, end, |first, count, t| {
+                    leaf_hit(first, count, t).is_some()
+                });
+                let numbered_blocked = numbered.traverse_any_leaves(&ray, end, |n, count, t| {
+                    let (first, _) = slot_of(n);
+                    leaf_hit(first, count, t).is_some()
+                });
+                assert_eq!(blocked, numbered_blocked);
+                any += usize::from(blocked);
+            }
+        }
+        assert!(visits > 400 && any > 100, "{visits} visits, {any} blocked");
     }
 
     /// The any-hit walk answers "is there a closest hit" for rays whose
