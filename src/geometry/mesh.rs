@@ -1,7 +1,8 @@
 //! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus a
 //! leaf-order permutation of triangle indices and the triangles' vertex
 //! indices in leaf order (4 + 12 bytes per triangle), and each leaf's
-//! vertices packed for a four-lane coverage test ([`super::leaf`]).
+//! vertices packed for a four-lane coverage test ([`super::leaf`]), the
+//! tree's leaves numbered by their packs.
 
 use std::sync::Arc;
 

@@ -12,8 +12,9 @@
 //!
 //! The hierarchy knows only boxes: the caller reorders its primitives by the
 //! permutation [`Bvh::build`] returns and intersects them in a visitor closure,
-//! a slot or a leaf at a time; it tells the builder whether its leaves are
-//! tested one primitive at a time or four at once ([`Leaves`]). Up to eight
+//! a slot or a leaf at a time (a leaf by its first slot, or by a number the
+//! caller gave it: [`Bvh::number_leaves`]); it tells the builder whether its
+//! leaves are tested one primitive at a time or four at once ([`Leaves`]). Up to eight
 //! rays that cross much the same boxes can walk it together ([`packet`]).
 
 mod node;
