@@ -302,14 +302,13 @@ impl TriangleLeaf {
         t_min: f32,
         t_max: f32,
     ) -> (Option<(usize, TriangleHit)>, u32) {
-        let [rx, ry, rz] = ray.rows;
-        let o = ray.origin.to_array().map(f32x4::splat);
-        let row = |r: Vec3| r.to_array().map(f32x4::splat);
-        let (rx, ry, rz) = (row(rx), row(ry), row(rz));
-        // `row.dot(vertex - origin)` as glam writes it, per vertex.
-        let rel = self.v.map(|p| [p[0] - o[0], p[1] - o[1], p[2] - o[2]]);
-        let dot = |r: &[f32x4; 3], q: &[f32x4; 3]| r[0] * q[0] + r[1] * q[1] + r[2] * q[2];
-        let [a, b, c] = rel.map(|q| (dot(&rx, &q), dot(&ry, &q)));
+        // `vertex − origin` on the permuted axes, then sheared: two
+        // operations per coordinate, as `ShearedRay::intersect` has them.
+        let [kx, ky, kz] = ray.axes.map(|k| k % 3);
+        let [ox, oy, oz] = ray.origin_on_axes.map(f32x4::splat);
+        let [sx, sy, sz] = ray.shear.map(f32x4::splat);
+        let rel = self.v.map(|p| (p[kx] - ox, p[ky] - oy, p[kz] - oz));
+        let [a, b, c] = rel.map(|(x, y, z)| (x + sx * z, y + sy * z));
         let u = c.0 * b.1 - c.1 * b.0;
         let v = a.0 * c.1 - a.1 * c.0;
         let w = b.0 * a.1 - b.1 * a.0;
@@ -324,7 +323,7 @@ impl TriangleLeaf {
             return (None, 0);
         }
         let det = u + v + w;
-        let [z0, z1, z2] = rel.map(|q| dot(&rz, &q));
+        let [z0, z1, z2] = rel.map(|(_, _, z)| sz * z);
         let t_scaled = u * z0 + v * z1 + w * z2;
         let t = t_scaled / det;
         let finite = t_scaled.abs().cmp_lt(f32x4::splat(f32::INFINITY));

@@ -21,16 +21,20 @@ pub struct Triangle {
 }
 
 /// The per-ray part of the watertight test: the permutation putting the
-/// ray's dominant axis last and the shear aligning it with +z, as the rows
-/// of one matrix. Row `i` has a 1 (or the z scale) at one axis, the shear at
-/// the dominant axis and an exact 0 elsewhere, so its dot product with a
-/// vertex rounds exactly as the permuted, sheared coordinate written out
-/// (adding the zero term changes nothing), with no per-vertex branching on
-/// the permutation.
+/// ray's dominant axis last (`axes`: x', y', then z') and the shear aligning
+/// it with +z, so that a point `p` maps to `x' = (p[kx] − o[kx]) +
+/// sx·(p[kz] − o[kz])`, `y' = (p[ky] − o[ky]) + sy·(p[kz] − o[kz])` and
+/// `z' = sz·(p[kz] − o[kz])`: two operations per coordinate, the same
+/// values as the rows of the matrix they form (whose other terms are exact
+/// zeros), for points stored by coordinate (a leaf's vertex rows) and one
+/// at a time alike.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    pub origin: Vec3,
-    pub rows: [Vec3; 3],
+    pub axes: [usize; 3],
+    /// The origin's coordinates on `axes`.
+    pub origin_on_axes: [f32; 3],
+    /// `(sx, sy, sz)`.
+    pub shear: [f32; 3],
 }
 
 /// Where a ray crosses a triangle: distance and barycentric weights of the
@@ -44,9 +48,9 @@ pub struct TriangleHit {
 impl ShearedRay {
     /// Built from one-hot axis vectors and one division of three lanes,
     /// without indexing by the axes (indexing a vector by a computed lane
-    /// went through the stack and stalled on the store). Each row is
-    /// `axis + kz · (−d_axis / d_z)` as before, so the rows are bit for bit
-    /// the indexed construction's.
+    /// went through the stack and stalled on the store): the shear is
+    /// `(−d[kx], −d[ky], 1) / d[kz]`, the indexed construction's value
+    /// (a zero may differ in sign).
     pub fn new(ray: &Ray) -> ShearedRay {
         let d = ray.dir;
         let a = d.abs();
@@ -62,18 +66,28 @@ impl ShearedRay {
         let dz = d.dot(ez);
         let (ex, ey) = if dz < 0.0 { (ey, ex) } else { (ex, ey) };
         let q = Vec3A::new(-d.dot(ex), -d.dot(ey), 1.0) / dz;
+        let kz = if z_wins { 2 } else { usize::from(y_wins) };
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        let (kx, ky) = if dz < 0.0 { (ky, kx) } else { (kx, ky) };
+        let o = ray.origin;
         ShearedRay {
-            origin: ray.origin,
-            rows: [ex + ez * q.x, ey + ez * q.y, ez * q.z],
+            axes: [kx, ky, kz],
+            origin_on_axes: [o.dot(ex), o.dot(ey), o.dot(ez)],
+            shear: q.to_array(),
         }
     }
 
     /// The hit on triangle `p` with `t` in `(t_min, t_max)`.
     #[inline(always)]
     pub fn intersect(&self, p: [Vec3; 3], t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let [rx, ry, rz] = self.rows;
-        let rel = p.map(|v| v - self.origin);
-        let xy = rel.map(|a| Vec2::new(rx.dot(a), ry.dot(a)));
+        let [kx, ky, kz] = self.axes.map(|k| k % 3);
+        let [ox, oy, oz] = self.origin_on_axes;
+        let [sx, sy, sz] = self.shear;
+        let rel = p.map(|v| {
+            let v = v.to_array();
+            (v[kx] - ox, v[ky] - oy, v[kz] - oz)
+        });
+        let xy = rel.map(|(x, y, z)| Vec2::new(x + sx * z, y + sy * z));
         let [a, b, c] = xy;
         let mut u = c.x * b.y - c.y * b.x;
         let mut v = a.x * c.y - a.y * c.x;
@@ -91,7 +105,7 @@ impl ShearedRay {
         if det == 0.0 {
             return None;
         }
-        let z = rel.map(|q| rz.dot(q));
+        let z = rel.map(|(_, _, z)| sz * z);
         let t_scaled = u * z[0] + v * z[1] + w * z[2];
         let mut t = t_scaled / det;
         if !t_scaled.is_finite() {
@@ -182,22 +196,21 @@ mod tests {
     use super::*;
     use crate::geometry::ray::offset_origin;
 
-    /// The rows as first written: the axes found by `max_position` and each
-    /// row built by indexing with them.
-    fn indexed_rows(dir: Vec3) -> [Vec3; 3] {
+    /// The axes and shear as first written: the axes found by
+    /// `max_position`, each value found by indexing with them.
+    fn indexed(dir: Vec3) -> ([usize; 3], [f32; 3]) {
         let kz = dir.abs().max_position();
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let unit = |axis: usize, value: f32| [Vec3::X, Vec3::Y, Vec3::Z][axis] * value;
-        let sheared = |axis: usize| unit(axis, 1.0) + unit(kz, -(dir[axis] / dir[kz]));
-        [sheared(kx), sheared(ky), unit(kz, 1.0 / dir[kz])]
+        let shear = [-(dir[kx] / dir[kz]), -(dir[ky] / dir[kz]), 1.0 / dir[kz]];
+        ([kx, ky, kz], shear)
     }
 
     #[test]
-    fn the_rows_are_bit_for_bit_the_indexed_construction() {
+    fn the_shear_is_the_indexed_construction() {
         let mut next = crate::sampling::rng::numbers(7);
         let mut dirs: Vec<Vec3> = (0..20_000)
             .map(|_| Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5))
@@ -215,15 +228,15 @@ mod tests {
             dirs.extend([Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(-0.0, 0.0, 1.0)].map(|d| d * s));
         }
         for dir in dirs {
-            let got = ShearedRay::new(&Ray::new(Vec3::ZERO, dir, 0.0)).rows;
-            let want = indexed_rows(dir);
-            for (g, w) in got.iter().zip(&want) {
-                assert_eq!(
-                    g.to_array().map(f32::to_bits),
-                    w.to_array().map(f32::to_bits),
-                    "{dir}"
-                );
-            }
+            let origin = Vec3::new(next(), -next(), next()) * 100.0;
+            let got = ShearedRay::new(&Ray::new(origin, dir, 0.0));
+            let (axes, shear) = indexed(dir);
+            assert_eq!(got.axes, axes, "{dir}");
+            // Equal as numbers: a zero shear may have either sign (the
+            // one-hot dot of `(−0, 0, 1)` is +0), which changes no
+            // comparison the test makes.
+            assert_eq!(got.shear, shear, "{dir}");
+            assert_eq!(got.origin_on_axes, axes.map(|k| origin[k]), "{dir}");
         }
     }
 
