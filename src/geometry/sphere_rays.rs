@@ -174,8 +174,9 @@ mod tests {
     /// Each lane finds what [`Sphere::crossing`] finds for its ray, bit for
     /// bit, with its early tests where the scalar test has them: rays from
     /// outside and inside, grazing the surface, departing, with directions
-    /// of any length, for spheres from 1e-4 to 1e4 across placed up to 1e5
-    /// from the origin, and `t_min` from 0 to beyond the sphere.
+    /// of any length, for spheres from 1e-4 to 1e4 across (some hollow, of
+    /// negative radius) placed up to 1e5 from the origin, and `t_min` from
+    /// 0 to beyond the sphere.
     #[test]
     fn each_lane_is_the_scalar_crossing_bit_for_bit() {
         let mut r = numbers(31);
@@ -184,9 +185,11 @@ mod tests {
             let scale = 10f32.powf(r() * 8.0 - 4.0);
             let far = if case % 3 == 0 { 1e5 } else { 0.0 };
             let center = (Vec3::new(r(), r(), r()) - 0.5) * far + Vec3::splat(far * 0.3);
+            // Every fourth sphere hollow (a negative radius).
+            let sign = if case % 4 == 3 { -1.0 } else { 1.0 };
             let sphere = Sphere {
                 center,
-                radius: scale * (0.5 + r()),
+                radius: sign * scale * (0.5 + r()),
             };
             let rays: Vec<Ray> = (0..LANES)
                 .map(|k| {
