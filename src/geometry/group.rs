@@ -117,12 +117,16 @@ impl Layer {
     /// `(0, t_max)`, the nearest `t` found so far narrowing `t_max` as in
     /// [`Bvh::traverse`]: a few in turn, more by the BVH.
     #[inline(always)]
-    fn traverse(&self, ray: &Ray, t_max: f32, mut visit: impl FnMut(usize, f32) -> Option<f32>) {
+    fn traverse(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut visit: impl FnMut(usize, f32) -> Option<f32>,
+    ) {
         if !self.few() {
             return self.bvh.traverse(ray, t_max, visit);
         }
         let inv_dir = ray.dir.recip();
-        let mut t_max = t_max;
         for (slot, inst) in self.bounded.iter().enumerate() {
             if inst.bounds.entered(ray.origin, inv_dir, t_max) {
                 if let Some(t) = visit(slot, t_max) {

@@ -304,11 +304,15 @@ impl TriangleLeaf {
     ) -> (Option<(usize, TriangleHit)>, u32) {
         // `vertex − origin` on the permuted axes, then sheared: two
         // operations per coordinate, as `ShearedRay::intersect` has them.
-        let [kx, ky, kz] = ray.axes.map(|k| k % 3);
+        let [kx, ky, kz] = ray.axes;
         let [ox, oy, oz] = ray.origin_on_axes.map(f32x4::splat);
         let [sx, sy, sz] = ray.shear.map(f32x4::splat);
-        let rel = self.v.map(|p| (p[kx] - ox, p[ky] - oy, p[kz] - oz));
-        let [a, b, c] = rel.map(|(x, y, z)| (x + sx * z, y + sy * z));
+        // Per vertex by name: `array::map` here stayed a call (`try_map`).
+        let rel = |p: [f32x4; 3]| (kx.of(p) - ox, ky.of(p) - oy, kz.of(p) - oz);
+        let [p0, p1, p2] = self.v;
+        let rel = [rel(p0), rel(p1), rel(p2)];
+        let sheared = |(x, y, z): (f32x4, f32x4, f32x4)| (x + sx * z, y + sy * z);
+        let [a, b, c] = [sheared(rel[0]), sheared(rel[1]), sheared(rel[2])];
         let u = c.0 * b.1 - c.1 * b.0;
         let v = a.0 * c.1 - a.1 * c.0;
         let w = b.0 * a.1 - b.1 * a.0;
@@ -323,7 +327,7 @@ impl TriangleLeaf {
             return (None, 0);
         }
         let det = u + v + w;
-        let [z0, z1, z2] = rel.map(|(_, _, z)| sz * z);
+        let [z0, z1, z2] = [sz * rel[0].2, sz * rel[1].2, sz * rel[2].2];
         let t_scaled = u * z0 + v * z1 + w * z2;
         let t = t_scaled / det;
         let finite = t_scaled.abs().cmp_lt(f32x4::splat(f32::INFINITY));

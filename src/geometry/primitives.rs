@@ -235,6 +235,10 @@ impl PrimitiveSet {
                 if let Some(leaf) = self.spheres.get(first) {
                     if mask.count_ones() as usize > count {
                         // More rays than spheres: a pass per sphere.
+                        // Set up at the first such leaf. Written so: with
+                        // `get_or_insert_with` it stayed a call, and with
+                        // `Option::insert` the spheres under a sky took
+                        // 3.3 M more instructions in this walk.
                         if sphere_rays.is_none() {
                             sphere_rays = Some(SphereRays::new(rays));
                         }

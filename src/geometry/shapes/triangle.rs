@@ -30,11 +30,39 @@ pub struct Triangle {
 /// at a time alike.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    pub axes: [usize; 3],
+    pub axes: [Axis; 3],
     /// The origin's coordinates on `axes`.
     pub origin_on_axes: [f32; 3],
     /// `(sx, sy, sz)`.
     pub shear: [f32; 3],
+}
+
+/// A coordinate axis. Being one of three values, it picks from a
+/// three-element array with no bounds check (a `usize` axis needed a check
+/// or a `% 3` at every leaf a ray tests).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    /// The axis after this one, cyclically (x → y → z → x).
+    fn next(self) -> Axis {
+        match self {
+            Axis::X => Axis::Y,
+            Axis::Y => Axis::Z,
+            Axis::Z => Axis::X,
+        }
+    }
+
+    /// The element of `values` on this axis.
+    #[inline(always)]
+    pub fn of<T: Copy>(self, values: [T; 3]) -> T {
+        values[self as usize]
+    }
 }
 
 /// Where a ray crosses a triangle: distance and barycentric weights of the
@@ -66,8 +94,12 @@ impl ShearedRay {
         let dz = d.dot(ez);
         let (ex, ey) = if dz < 0.0 { (ey, ex) } else { (ex, ey) };
         let q = Vec3A::new(-d.dot(ex), -d.dot(ey), 1.0) / dz;
-        let kz = if z_wins { 2 } else { usize::from(y_wins) };
-        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        let kz = match (z_wins, y_wins) {
+            (true, _) => Axis::Z,
+            (false, true) => Axis::Y,
+            (false, false) => Axis::X,
+        };
+        let (kx, ky) = (kz.next(), kz.next().next());
         let (kx, ky) = if dz < 0.0 { (ky, kx) } else { (kx, ky) };
         let o = ray.origin;
         ShearedRay {
@@ -80,12 +112,12 @@ impl ShearedRay {
     /// The hit on triangle `p` with `t` in `(t_min, t_max)`.
     #[inline(always)]
     pub fn intersect(&self, p: [Vec3; 3], t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let [kx, ky, kz] = self.axes.map(|k| k % 3);
+        let [kx, ky, kz] = self.axes;
         let [ox, oy, oz] = self.origin_on_axes;
         let [sx, sy, sz] = self.shear;
         let rel = p.map(|v| {
             let v = v.to_array();
-            (v[kx] - ox, v[ky] - oy, v[kz] - oz)
+            (kx.of(v) - ox, ky.of(v) - oy, kz.of(v) - oz)
         });
         let xy = rel.map(|(x, y, z)| Vec2::new(x + sx * z, y + sy * z));
         let [a, b, c] = xy;
@@ -231,7 +263,7 @@ mod tests {
             let origin = Vec3::new(next(), -next(), next()) * 100.0;
             let got = ShearedRay::new(&Ray::new(origin, dir, 0.0));
             let (axes, shear) = indexed(dir);
-            assert_eq!(got.axes, axes, "{dir}");
+            assert_eq!(got.axes.map(|a| a as usize), axes, "{dir}");
             // Equal as numbers: a zero shear may have either sign (the
             // one-hot dot of `(−0, 0, 1)` is +0), which changes no
             // comparison the test makes.
