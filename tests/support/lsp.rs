@@ -83,6 +83,18 @@ impl Client {
             .expect("the server answers in time")
     }
 
+    /// The next frame that is not a notification: the server publishes a
+    /// document's diagnostics whenever its check ends, before or after any
+    /// answer.
+    pub fn response(&mut self) -> Value {
+        loop {
+            let message = self.receive();
+            if message.get("method").is_none() {
+                return message;
+            }
+        }
+    }
+
     pub fn notify(&mut self, method: &str, params: Value) {
         self.send(json!({"jsonrpc": "2.0", "method": method, "params": params}));
     }
