@@ -118,8 +118,9 @@ impl SphereLeaf {
     /// Lane `i`'s sphere: its centre and radius.
     #[inline(always)]
     pub fn sphere(&self, i: usize) -> (Vec3, f32) {
-        let [x, y, z] = self.center.map(|row| row.as_array_ref()[i]);
-        (Vec3::new(x, y, z), self.radius.as_array_ref()[i])
+        let [x, y, z] = &self.center;
+        let at = |row: &f32x4| row.as_array_ref()[i];
+        (Vec3::new(at(x), at(y), at(z)), at(&self.radius))
     }
 
     /// The lanes (bit `i` for lane `i`) whose sphere neither early test of
@@ -128,8 +129,8 @@ impl SphereLeaf {
     #[inline]
     pub fn candidates(&self, ray: &Ray) -> u32 {
         let dd = f32x4::splat(ray.dir.length_squared());
-        let [dx, dy, dz] = ray.dir.to_array().map(f32x4::splat);
-        let [fx, fy, fz] = [0, 1, 2].map(|a| f32x4::splat(ray.origin[a]) - self.center[a]);
+        let [dx, dy, dz] = splat3(ray.dir);
+        let [fx, fy, fz] = self.offsets(ray);
         // `f.cross(dir)` as glam writes it.
         let cx = fy * dz - dy * fz;
         let cy = fz * dx - dz * fx;
@@ -193,14 +194,22 @@ impl SphereLeaf {
         )
     }
 
+    /// Per axis, the ray's origin less each lane's centre.
+    #[inline(always)]
+    fn offsets(&self, ray: &Ray) -> [f32x4; 3] {
+        let [cx, cy, cz] = self.center;
+        let [ox, oy, oz] = splat3(ray.origin);
+        [ox - cx, oy - cy, oz - cz]
+    }
+
     /// What both [`SphereLeaf::roots`] and [`SphereLeaf::crossings`] start
     /// from: each lane's `c` and `q` of the stable quadratic, the lanes
     /// whose line misses (bit `i` for lane `i`), and the direction's length.
     #[inline(always)]
     fn quadratics(&self, ray: &Ray) -> (f32x4, f32x4, u32, f32) {
         let len = ray.dir.length_squared().sqrt();
-        let [dx, dy, dz] = (ray.dir / len).to_array().map(f32x4::splat);
-        let [fx, fy, fz] = [0, 1, 2].map(|a| f32x4::splat(ray.origin[a]) - self.center[a]);
+        let [dx, dy, dz] = splat3(ray.dir / len);
+        let [fx, fy, fz] = self.offsets(ray);
         // `f.dot(d)`, `f − b·d` and the lengths as glam writes them.
         let b = fx * dx + fy * dy + fz * dz;
         let (px, py, pz) = (fx - b * dx, fy - b * dy, fz - b * dz);
@@ -215,6 +224,13 @@ impl SphereLeaf {
         let missed = disc.cmp_lt(f32x4::ZERO).move_mask() as u32;
         (c, q, missed, len)
     }
+}
+
+/// Each coordinate of `v` in all four lanes. Written out: an array's `map`
+/// stayed a call of its own at every use in the sphere tests.
+#[inline(always)]
+fn splat3(v: Vec3) -> [f32x4; 3] {
+    [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)]
 }
 
 /// Up to four triangles: per vertex, per axis, the four lanes.
