@@ -308,8 +308,10 @@ mod tests {
             height: 3,
             pixels: (0..21).map(|i| Vec3::splat(i as f32)).collect(),
         };
-        for k in 0..20_000 {
-            let uv = Vec2::new((r() - 0.5) * 10f32.powi(k % 8 - 2), r());
+        // Each u just below half a texel wraps to x = 7 exactly.
+        let edges = (1..40).map(|k| Vec2::new(0.5 / 7.0 - k as f32 * 1e-9, 0.5));
+        let random = (0..20_000).map(|k| Vec2::new((r() - 0.5) * 10f32.powi(k % 8 - 2), r()));
+        for uv in edges.chain(random) {
             let (u, v) = (uv.x.rem_euclid(1.0), 1.0 - uv.y.clamp(0.0, 1.0));
             let x = (u * 7.0 - 0.5).rem_euclid(7.0);
             let y = (v * 3.0 - 0.5).clamp(0.0, 2.0);
