@@ -1,6 +1,7 @@
 //! Paths in lanes: the [`BLOCK`] samples of one sampler block of a pixel
-//! traced side by side, bounce by bounce, for scenes of solid-coloured
-//! lambertian surfaces lit by at most one parallelogram light. The samples
+//! traced side by side, bounce by bounce, for scenes of lambertian
+//! surfaces (of any texture) lit by at most one solid-coloured
+//! parallelogram light. The samples
 //! of a block share their Sobol' draws slot by slot (one vector each), so
 //! the shading of all eight (light point, shadow segment, cosine-weighted
 //! direction, offsets) runs as loops over lanes of the scalar code, which
@@ -17,6 +18,7 @@ use glam::{Vec2, Vec3};
 use super::camera::CameraRays;
 use super::integrator::{background, power_heuristic, survival, Previous, Tracer, ROULETTE_AFTER};
 use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
+use super::texture::lookup;
 use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
@@ -26,7 +28,7 @@ use crate::sampling::sampler::{PixelSeeds, BLOCK};
 use crate::sampling::sobol8::{points8_each, Shuffled};
 use crate::sampling::warp::cosine_hemisphere;
 use crate::sampling::Dim;
-use crate::scene::{Material, Texture};
+use crate::scene::{Material, Texture, TextureId};
 use crate::simd::LANES;
 
 type Lane<T> = [T; LANES];
@@ -40,8 +42,15 @@ const SIDE_BY_SIDE: usize = 4;
 /// How a material scatters, as the lanes know it.
 #[derive(Clone, Copy, Debug)]
 enum Surface {
+    /// A lambertian of one colour.
     Diffuse(Vec3),
-    Emitter { emit: Vec3, two_sided: bool },
+    /// A lambertian whose albedo is a texture, looked up at each hit as
+    /// the scalar integrator looks it up.
+    Textured(TextureId),
+    Emitter {
+        emit: Vec3,
+        two_sided: bool,
+    },
 }
 
 /// The one light paths sample, with its point's error bound.
@@ -67,8 +76,8 @@ pub struct Lanes<'a> {
 
 impl<'a> Lanes<'a> {
     /// The lanes for `tracer` and `camera`, or `None` when the scene holds
-    /// something they do not trace: a material other than a solid-coloured
-    /// lambertian or light (so no medium, whose phase function is
+    /// something they do not trace: a material other than a lambertian or
+    /// a solid-coloured light (so no medium, whose phase function is
     /// isotropic), or light sampling over anything but one parallelogram.
     pub fn new(tracer: &'a Tracer<'a>, camera: &'a CameraRays) -> Option<Lanes<'a>> {
         let scene = tracer.scene;
@@ -80,7 +89,9 @@ impl<'a> Lanes<'a> {
             .materials
             .iter()
             .map(|m| match *m {
-                Material::Lambertian { albedo } => Some(Surface::Diffuse(solid(albedo)?)),
+                Material::Lambertian { albedo } => {
+                    Some(solid(albedo).map_or(Surface::Textured(albedo), Surface::Diffuse))
+                }
                 Material::Light { emit, two_sided } => Some(Surface::Emitter {
                     emit: solid(emit)?,
                     two_sided,
@@ -203,6 +214,14 @@ impl<'a> Lanes<'a> {
                     alive[i] = false;
                     continue;
                 };
+                // The lane's whole hit: a flat set's lane builds it from
+                // its crossing.
+                let whole = |hit: Option<Hit>| {
+                    hit.unwrap_or_else(|| {
+                        let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
+                        flat_hit(set, near, i, &ray[i])
+                    })
+                };
                 match self.surfaces[material.index()] {
                     Surface::Diffuse(albedo) => {
                         diffuse[i] = true;
@@ -211,11 +230,17 @@ impl<'a> Lanes<'a> {
                             frame.set(i, hit);
                         }
                     }
+                    Surface::Textured(tex) => {
+                        diffuse[i] = true;
+                        // At the hit's scene point and uv, as
+                        // `material::bsdf` reads it.
+                        frame.albedo.set(i, self.textured(tex, &whole(hit)));
+                        if let Some(hit) = &hit {
+                            frame.set(i, hit);
+                        }
+                    }
                     Surface::Emitter { emit, two_sided } => {
-                        let hit = hit.unwrap_or_else(|| {
-                            let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
-                            flat_hit(set, near, i, &ray[i])
-                        });
+                        let hit = whole(hit);
                         let emitted = if hit.front_face || two_sided {
                             emit
                         } else {
@@ -288,6 +313,19 @@ impl<'a> Lanes<'a> {
             }
         }
         (radiance, rays)
+    }
+}
+
+impl Lanes<'_> {
+    /// The albedo of texture `tex` at `hit`, kept out of the lane loop.
+    #[inline(never)]
+    fn textured(&self, tex: TextureId, hit: &Hit) -> Vec3 {
+        lookup(
+            self.tracer.scene,
+            tex,
+            hit.uv,
+            hit.point + self.tracer.world.origin(),
+        )
     }
 }
 
