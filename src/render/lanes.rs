@@ -23,7 +23,8 @@ use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::segments::MediumSegments;
-use crate::geometry::{Hit, Ray};
+use crate::geometry::shapes::ShapeHit;
+use crate::geometry::{Hit, Ray, SurfaceUv};
 use crate::sampling::sampler::{PixelSeeds, BLOCK};
 use crate::sampling::sobol8::{points8_each, Shuffled};
 use crate::sampling::warp::cosine_hemisphere;
@@ -214,14 +215,6 @@ impl<'a> Lanes<'a> {
                     alive[i] = false;
                     continue;
                 };
-                // The lane's whole hit: a flat set's lane builds it from
-                // its crossing.
-                let whole = |hit: Option<Hit>| {
-                    hit.unwrap_or_else(|| {
-                        let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
-                        flat_hit(set, near, i, &ray[i])
-                    })
-                };
                 match self.surfaces[material.index()] {
                     Surface::Diffuse(albedo) => {
                         diffuse[i] = true;
@@ -233,14 +226,26 @@ impl<'a> Lanes<'a> {
                     Surface::Textured(tex) => {
                         diffuse[i] = true;
                         // At the hit's scene point and uv, as
-                        // `material::bsdf` reads it.
-                        frame.albedo.set(i, self.textured(tex, &whole(hit)));
+                        // `material::bsdf` reads it; a flat set's lane
+                        // builds its surface alone, not its whole hit.
+                        let (uv, point) = match &hit {
+                            Some(h) => (h.uv, h.point),
+                            None => {
+                                let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
+                                let s = flat_surface(set, near, i, &ray[i]);
+                                (s.uv, s.point)
+                            }
+                        };
+                        frame.albedo.set(i, self.textured(tex, uv, point));
                         if let Some(hit) = &hit {
                             frame.set(i, hit);
                         }
                     }
                     Surface::Emitter { emit, two_sided } => {
-                        let hit = whole(hit);
+                        let hit = hit.unwrap_or_else(|| {
+                            let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
+                            flat_hit(set, near, i, &ray[i])
+                        });
                         let emitted = if hit.front_face || two_sided {
                             emit
                         } else {
@@ -317,14 +322,15 @@ impl<'a> Lanes<'a> {
 }
 
 impl Lanes<'_> {
-    /// The albedo of texture `tex` at `hit`, kept out of the lane loop.
+    /// The albedo of texture `tex` at a hit's `uv` and `point` (in the
+    /// world's frame), kept out of the lane loop.
     #[inline(never)]
-    fn textured(&self, tex: TextureId, hit: &Hit) -> Vec3 {
+    fn textured(&self, tex: TextureId, uv: SurfaceUv, point: Vec3) -> Vec3 {
         lookup(
             self.tracer.scene,
             tex,
-            hit.uv,
-            hit.point + self.tracer.world.origin(),
+            uv,
+            point + self.tracer.world.origin(),
         )
     }
 }
@@ -616,6 +622,14 @@ fn crossings(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Nearest
         }
     }
     near
+}
+
+/// Lane `i`'s surface (no facing, material or light) at its crossing
+/// `near` on a flat set.
+#[inline(always)]
+fn flat_surface(set: &PrimitiveSet, near: &Nearest8, i: usize, ray: &Ray) -> ShapeHit {
+    let (slot, c) = near.crossing(i).expect("a lane that met a face");
+    set.flat_surface(slot, ray, &c)
 }
 
 /// Lane `i`'s whole hit at its crossing `near` on a flat set.
