@@ -1,17 +1,16 @@
 //! Paths in lanes: the [`BLOCK`] samples of one sampler block of a pixel
-//! traced side by side, bounce by bounce, for scenes of lambertian
-//! surfaces (of any texture) lit by at most one solid-coloured
-//! parallelogram light. The samples
-//! of a block share their Sobol' draws slot by slot (one vector each), so
-//! the shading of all eight (light point, shadow segment, cosine-weighted
-//! direction, offsets) runs as loops over lanes of the scalar code, which
-//! the compiler vectorises. Rays are traced one at a time; in a world of
-//! flat faces only (`World::flat_set`), every lane's crossing is found
-//! before any lane's hit is built, so that the eight searches run side by
-//! side. Each lane performs exactly the floating-point operations of
-//! [`Tracer::radiance`], so an image is bit-identical to the scalar
-//! integrator's (tests/lanes.rs). Scenes it does not cover ([`Lanes::new`]
-//! says `None`) take the scalar integrator.
+//! traced side by side, bounce by bounce, for scenes of lambertian surfaces
+//! (of any texture) lit by at most one solid-coloured parallelogram light.
+//! The samples of a block share their Sobol' draws slot by slot (one vector
+//! each), so the shading of all eight (light point, shadow segment,
+//! cosine-weighted direction, offsets) runs as loops over lanes of the
+//! scalar code, which the compiler vectorises. Rays are traced one at a
+//! time; in a world of flat faces only (`World::flat_set`), every lane's
+//! crossing is found before any lane's hit is built, so that the eight
+//! searches run side by side. Each lane performs exactly the floating-point
+//! operations of [`Tracer::radiance`], so an image is bit-identical to the
+//! scalar integrator's (tests/lanes.rs). Scenes it does not cover
+//! ([`Lanes::new`] says `None`) take the scalar integrator.
 
 use glam::{Vec2, Vec3};
 
@@ -319,9 +318,7 @@ impl<'a> Lanes<'a> {
         }
         (radiance, rays)
     }
-}
 
-impl Lanes<'_> {
     /// The albedo of texture `tex` at a hit's `uv` and `point` (in the
     /// world's frame), kept out of the lane loop.
     #[inline(never)]
