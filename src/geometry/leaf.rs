@@ -318,17 +318,10 @@ impl TriangleLeaf {
         t_min: f32,
         t_max: f32,
     ) -> (Option<(usize, TriangleHit)>, u32) {
-        // `vertex − origin` on the permuted axes, then sheared: two
-        // operations per coordinate, as `ShearedRay::intersect` has them.
-        let [kx, ky, kz] = ray.axes;
-        let [ox, oy, oz] = ray.origin_on_axes.map(f32x4::splat);
-        let [sx, sy, sz] = ray.shear.map(f32x4::splat);
         // Per vertex by name: `array::map` here stayed a call (`try_map`).
-        let rel = |p: [f32x4; 3]| (kx.of(p) - ox, ky.of(p) - oy, kz.of(p) - oz);
+        let project = |p: [f32x4; 3]| ray.project(p, f32x4::splat);
         let [p0, p1, p2] = self.v;
-        let rel = [rel(p0), rel(p1), rel(p2)];
-        let sheared = |(x, y, z): (f32x4, f32x4, f32x4)| (x + sx * z, y + sy * z);
-        let [a, b, c] = [sheared(rel[0]), sheared(rel[1]), sheared(rel[2])];
+        let ((a, a_z), (b, b_z), (c, c_z)) = (project(p0), project(p1), project(p2));
         let u = c.0 * b.1 - c.1 * b.0;
         let v = a.0 * c.1 - a.1 * c.0;
         let w = b.0 * a.1 - b.1 * a.0;
@@ -343,7 +336,8 @@ impl TriangleLeaf {
             return (None, 0);
         }
         let det = u + v + w;
-        let [z0, z1, z2] = [sz * rel[0].2, sz * rel[1].2, sz * rel[2].2];
+        let sz = f32x4::splat(ray.shear[2]);
+        let [z0, z1, z2] = [sz * a_z, sz * b_z, sz * c_z];
         let t_scaled = u * z0 + v * z1 + w * z2;
         let t = t_scaled / det;
         let finite = t_scaled.abs().cmp_lt(f32x4::splat(f32::INFINITY));

@@ -172,6 +172,8 @@ fn mask(flags: [bool; LANES]) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::shapes::Sphere;
+    use crate::sampling::rng::numbers;
 
     #[test]
     fn every_set_of_flags_is_its_mask() {
@@ -179,8 +181,6 @@ mod tests {
             assert_eq!(mask(from_fn(|l| m >> l & 1 != 0)), m);
         }
     }
-    use crate::geometry::shapes::Sphere;
-    use crate::sampling::rng::numbers;
 
     /// Each lane finds what [`Sphere::crossing`] finds for its ray, bit for
     /// bit, with its early tests where the scalar test has them: rays from

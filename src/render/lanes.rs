@@ -214,16 +214,9 @@ impl<'a> Lanes<'a> {
                     alive[i] = false;
                     continue;
                 };
-                match self.surfaces[material.index()] {
-                    Surface::Diffuse(albedo) => {
-                        diffuse[i] = true;
-                        frame.albedo.set(i, albedo);
-                        if let Some(hit) = &hit {
-                            frame.set(i, hit);
-                        }
-                    }
+                let albedo = match self.surfaces[material.index()] {
+                    Surface::Diffuse(albedo) => albedo,
                     Surface::Textured(tex) => {
-                        diffuse[i] = true;
                         // At the hit's scene point and uv, as
                         // `material::bsdf` reads it; a flat set's lane
                         // builds its surface alone, not its whole hit.
@@ -235,10 +228,7 @@ impl<'a> Lanes<'a> {
                                 (s.uv, s.point)
                             }
                         };
-                        frame.albedo.set(i, self.textured(tex, uv, point));
-                        if let Some(hit) = &hit {
-                            frame.set(i, hit);
-                        }
+                        self.textured(tex, uv, point)
                     }
                     Surface::Emitter { emit, two_sided } => {
                         let hit = hit.unwrap_or_else(|| {
@@ -259,7 +249,13 @@ impl<'a> Lanes<'a> {
                             radiance[i] += throughput[i] * emitted * weight;
                         }
                         alive[i] = false;
+                        continue;
                     }
+                };
+                diffuse[i] = true;
+                frame.albedo.set(i, albedo);
+                if let Some(hit) = &hit {
+                    frame.set(i, hit);
                 }
             }
             if flat_hits.is_some() {

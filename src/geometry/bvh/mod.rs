@@ -556,6 +556,14 @@ mod tests {
         (Ray::new(origin, dir, 0.0), dir.recip())
     }
 
+    /// The "hit" of the primitive in `slot` (`order` maps slots to
+    /// boxes): its box's entry distance along the ray, if beyond 0.
+    fn slot_entry(boxes: &[Aabb], order: &[u32], ray: &Ray, inv: Vec3, slot: usize) -> Option<f32> {
+        boxes[order[slot] as usize]
+            .hit(ray, inv, 0.0, f32::INFINITY)
+            .filter(|&t| t > 0.0)
+    }
+
     #[test]
     fn nearest_hit_matches_brute_force_on_random_boxes() {
         let mut r = numbers(7);
@@ -606,11 +614,7 @@ mod tests {
         let (mut visits, mut any) = (0, 0);
         for _ in 0..300 {
             let (ray, inv) = random_ray(&mut r);
-            let entry = |slot: usize| {
-                boxes[order[slot] as usize]
-                    .hit(&ray, inv, 0.0, f32::INFINITY)
-                    .filter(|&t| t > 0.0)
-            };
+            let entry = |slot| slot_entry(&boxes, &order, &ray, inv, slot);
             // A leaf's "hit": its slots' nearest entry.
             let leaf_hit = |first: usize, count: usize, t_max: f32| {
                 (first..first + count)
@@ -658,12 +662,7 @@ mod tests {
         let (mut hits, mut misses) = (0, 0);
         for _ in 0..600 {
             let (ray, inv) = random_ray(&mut r);
-            // A "primitive" is hit at its box's entry distance, if beyond 0.
-            let entry = |slot: usize| {
-                boxes[order[slot] as usize]
-                    .hit(&ray, inv, 0.0, f32::INFINITY)
-                    .filter(|&t| t > 0.0)
-            };
+            let entry = |slot| slot_entry(&boxes, &order, &ray, inv, slot);
             let closest = |t_max: f32| {
                 let mut best = None;
                 bvh.traverse(&ray, t_max, |slot, t_max| {

@@ -8,6 +8,8 @@
 //! a silhouette vertex or edge may still miss: after rounding it passes
 //! beside the surface without entering it, which is no hole.
 
+use std::ops::{Add, Mul, Sub};
+
 use glam::{DVec2, Vec2, Vec3, Vec3A};
 
 use super::{Crossing, ShapeHit};
@@ -30,9 +32,9 @@ pub struct Triangle {
 /// at a time alike.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    pub axes: [Axis; 3],
+    axes: [Axis; 3],
     /// The origin's coordinates on `axes`.
-    pub origin_on_axes: [f32; 3],
+    origin_on_axes: [f32; 3],
     /// `(sx, sy, sz)`.
     pub shear: [f32; 3],
 }
@@ -42,7 +44,7 @@ pub struct ShearedRay {
 /// or a `% 3` at every leaf a ray tests).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
-pub enum Axis {
+enum Axis {
     X,
     Y,
     Z,
@@ -60,7 +62,7 @@ impl Axis {
 
     /// The element of `values` on this axis.
     #[inline(always)]
-    pub fn of<T: Copy>(self, values: [T; 3]) -> T {
+    fn of<T: Copy>(self, values: [T; 3]) -> T {
         values[self as usize]
     }
 }
@@ -109,23 +111,40 @@ impl ShearedRay {
         }
     }
 
+    /// A vertex `p` (one coordinate, or one lane row of coordinates, per
+    /// axis; `splat` makes a ray value one such) on the permuted, sheared
+    /// axes: `(x', y')`, and its offset `p[kz] − o[kz]` along the dominant
+    /// axis, which `z' = sz·(p[kz] − o[kz])` scales once a hit is likely.
+    /// The scalar test and a leaf's four lanes both map vertices here, so
+    /// they round alike.
+    #[inline(always)]
+    pub fn project<T>(&self, p: [T; 3], splat: impl Fn(f32) -> T) -> ((T, T), T)
+    where
+        T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>,
+    {
+        let [kx, ky, kz] = self.axes;
+        let [ox, oy, oz] = self.origin_on_axes;
+        let [sx, sy, _] = self.shear;
+        let (x, y, z) = (
+            kx.of(p) - splat(ox),
+            ky.of(p) - splat(oy),
+            kz.of(p) - splat(oz),
+        );
+        ((x + splat(sx) * z, y + splat(sy) * z), z)
+    }
+
     /// The hit on triangle `p` with `t` in `(t_min, t_max)`.
     #[inline(always)]
     pub fn intersect(&self, p: [Vec3; 3], t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let [kx, ky, kz] = self.axes;
-        let [ox, oy, oz] = self.origin_on_axes;
-        let [sx, sy, sz] = self.shear;
-        let rel = p.map(|v| {
-            let v = v.to_array();
-            (kx.of(v) - ox, ky.of(v) - oy, kz.of(v) - oz)
-        });
-        let xy = rel.map(|(x, y, z)| Vec2::new(x + sx * z, y + sy * z));
-        let [a, b, c] = xy;
+        let project = |v: Vec3| self.project(v.to_array(), |x| x);
+        let ((a, a_z), (b, b_z), (c, c_z)) = (project(p[0]), project(p[1]), project(p[2]));
+        let xy = [a, b, c];
+        let [a, b, c] = xy.map(|(x, y)| Vec2::new(x, y));
         let mut u = c.x * b.y - c.y * b.x;
         let mut v = a.x * c.y - a.y * c.x;
         let mut w = b.x * a.y - b.y * a.x;
         if u == 0.0 || v == 0.0 || w == 0.0 {
-            let [a, b, c] = xy.map(|q| DVec2::new(q.x as f64, q.y as f64));
+            let [a, b, c] = xy.map(|(x, y)| DVec2::new(x as f64, y as f64));
             u = (c.x * b.y - c.y * b.x) as f32;
             v = (a.x * c.y - a.y * c.x) as f32;
             w = (b.x * a.y - b.y * a.x) as f32;
@@ -137,7 +156,8 @@ impl ShearedRay {
         if det == 0.0 {
             return None;
         }
-        let z = rel.map(|(_, _, z)| sz * z);
+        let sz = self.shear[2];
+        let z = [sz * a_z, sz * b_z, sz * c_z];
         let t_scaled = u * z[0] + v * z[1] + w * z[2];
         let mut t = t_scaled / det;
         if !t_scaled.is_finite() {
