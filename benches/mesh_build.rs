@@ -45,7 +45,7 @@ fn bench(c: &mut Criterion) {
     let arrays = data.positions.len() * 12 + tris * 12;
     let total = arrays + mesh.memory();
     println!(
-        "mesh of {tris} triangles: {:.1} bytes/triangle ({:.1} arrays + {:.1} BVH and order)",
+        "mesh of {tris} triangles: {:.1} bytes/triangle ({:.1} arrays + {:.1} BVH and leaves)",
         total as f64 / tris as f64,
         arrays as f64 / tris as f64,
         mesh.memory() as f64 / tris as f64

@@ -1,8 +1,8 @@
-//! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus a
-//! leaf-order permutation of triangle indices and the triangles' vertex
-//! indices in leaf order (4 + 12 bytes per triangle), and each leaf's
-//! vertices packed for a four-lane coverage test ([`super::leaf`]), the
-//! tree's leaves numbered by their packs.
+//! Triangle meshes under their own BVH: the shared [`MeshData`] arrays plus
+//! each leaf's triangles packed for a four-lane test ([`super::leaf`]) with
+//! their corners and triangle numbers, the tree's leaves numbered by their
+//! packs. A hit takes its corners and triangle from its leaf, and reads the
+//! mesh's arrays only for what the leaf lacks (vertex normals, uvs).
 
 use std::sync::Arc;
 
@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3};
 use super::bvh::Leaves;
 use super::emitter::LightId;
 use super::leaf::TriangleLeaf;
-use super::shapes::triangle::{unit_normal, ShearedRay, TriangleHit};
+use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::tangents::{self, Tangents};
 use super::{Aabb, Bvh, Ray};
@@ -21,10 +21,6 @@ use crate::scene::{MaterialId, MeshData};
 #[derive(Debug)]
 pub struct MeshGeometry {
     data: Arc<MeshData>,
-    order: Vec<u32>,
-    /// The vertex indices of the triangle in each leaf slot, so a test
-    /// reads them without going through `order` (12 bytes per triangle).
-    slot_triangles: Vec<[u32; 3]>,
     /// Scene material of each material slot of the mesh.
     materials: Vec<MaterialId>,
     /// Light id of each triangle (by index in `data`); empty when none emits.
@@ -59,24 +55,21 @@ impl MeshGeometry {
             })
             .collect();
         let (mut bvh, order) = Bvh::build_leaves(&bounds, Leaves::Packed);
-        let slot_triangles: Vec<[u32; 3]> =
-            order.iter().map(|&t| data.triangles[t as usize]).collect();
         // The packs in the order the leaves are listed (the nodes', so
         // nearby leaves lie nearby), each leaf numbered by its pack.
         let mut leaves = Vec::new();
         bvh.number_leaves(|first, count| {
-            let tris: Vec<[Vec3; 3]> = slot_triangles[first..first + count]
+            let ids = &order[first..first + count];
+            let tris: Vec<[Vec3; 3]> = ids
                 .iter()
-                .map(|t| t.map(|i| data.positions[i as usize]))
+                .map(|&t| data.triangles[t as usize].map(|i| data.positions[i as usize]))
                 .collect();
-            leaves.push(TriangleLeaf::new(first, &tris));
+            leaves.push(TriangleLeaf::new(&tris, ids));
             (leaves.len() - 1) as u32
         });
         MeshGeometry {
             leaves,
             data,
-            order,
-            slot_triangles,
             materials,
             lights: Vec::new(),
             bvh,
@@ -95,23 +88,8 @@ impl MeshGeometry {
     /// Bytes this structure adds to the shared mesh data.
     pub fn memory(&self) -> usize {
         self.bvh.memory()
-            + self.order.len() * 4
-            + self.slot_triangles.len() * 12
             + self.lights.len() * 4
             + self.leaves.len() * std::mem::size_of::<TriangleLeaf>()
-    }
-
-    /// The scalar watertight test of the triangle in leaf slot `slot`.
-    #[inline(always)]
-    fn test(
-        &self,
-        sheared: &ShearedRay,
-        slot: usize,
-        t_min: f32,
-        t_max: f32,
-    ) -> Option<TriangleHit> {
-        let idx = self.slot_triangles[slot];
-        sheared.intersect(idx.map(|i| self.data.positions[i as usize]), t_min, t_max)
     }
 
     /// Whether any triangle is hit with `t` in `(t_min, t_max)`: the walk
@@ -127,8 +105,10 @@ impl MeshGeometry {
             |pack, _, t_max| {
                 let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
                 let leaf = &self.leaves[pack];
-                let first = leaf.first();
-                let scalar = |lane, t_max| self.test(sheared, first + lane, t_min, t_max).is_some();
+                let scalar = |lane, t_max| {
+                    let p = leaf.corners(lane);
+                    sheared.intersect(p, t_min, t_max).is_some()
+                };
                 leaf.any(sheared, t_min, t_max, scalar)
             },
         )
@@ -149,7 +129,6 @@ impl MeshGeometry {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
         let mut sheared = None;
-        let pos = &self.data.positions;
         let mut best = None;
         self.bvh.traverse_leaves(
             ray,
@@ -158,31 +137,18 @@ impl MeshGeometry {
             |pack, _, t_max| {
                 let sheared = sheared.get_or_insert_with(|| ShearedRay::new(ray));
                 let leaf = &self.leaves[pack];
-                let first = leaf.first();
-                let scalar = |lane, t_max| self.test(sheared, first + lane, t_min, t_max);
+                let scalar = |lane, t_max| sheared.intersect(leaf.corners(lane), t_min, t_max);
                 let (lane, h) = leaf.nearest(sheared, t_min, t_max, scalar)?;
-                best = Some((first + lane, h));
+                best = Some((pack, lane, h));
                 Some(h.t)
             },
         );
-        let (slot, h) = best?;
-        let tri = self.order[slot];
-        let idx = self.slot_triangles[slot].map(|i| i as usize);
-        let [a, b, c] = idx.map(|i| pos[i]);
+        let (pack, lane, h) = best?;
+        let leaf = &self.leaves[pack];
+        let tri = leaf.id(lane);
+        let [a, b, c] = leaf.corners(lane);
         let w = h.bary;
         let normal = unit_normal(a, b, c).unwrap_or(Vec3::Y);
-        let shading_normal = if self.data.normals.is_empty() {
-            normal
-        } else {
-            let n = &self.data.normals;
-            (w.x * n[idx[0]] + w.y * n[idx[1]] + w.z * n[idx[2]]).normalize_or(normal)
-        };
-        let uv = if self.data.uvs.is_empty() {
-            Vec2::new(w.y, w.z)
-        } else {
-            let t = &self.data.uvs;
-            w.x * t[idx[0]] + w.y * t[idx[1]] + w.z * t[idx[2]]
-        };
         let slot = self
             .data
             .triangle_material
@@ -190,8 +156,23 @@ impl MeshGeometry {
             .copied()
             .unwrap_or(0);
         let material = self.materials[(slot as usize).min(self.materials.len() - 1)];
+        // The vertex indices, read only for the arrays that need them.
+        let data = &self.data;
+        let idx = || data.triangles[tri as usize].map(|i| i as usize);
+        let shading_normal = if data.normals.is_empty() {
+            normal
+        } else {
+            let (n, idx) = (&data.normals, idx());
+            (w.x * n[idx[0]] + w.y * n[idx[1]] + w.z * n[idx[2]]).normalize_or(normal)
+        };
+        let uv = if data.uvs.is_empty() {
+            Vec2::new(w.y, w.z)
+        } else {
+            let (t, idx) = (&data.uvs, idx());
+            w.x * t[idx[0]] + w.y * t[idx[1]] + w.z * t[idx[2]]
+        };
         let tangents = if material.needs_tangents() {
-            self.tangents([a, b, c], idx)
+            self.tangents([a, b, c], idx())
         } else {
             Tangents::NONE
         };
