@@ -39,7 +39,8 @@ fn in_lanes(scene: &Scene, world: &World, options: &RenderOptions) -> bool {
     );
     let tracer = Tracer::for_options(scene, world, &lights, options);
     let camera = CameraRays::new(&scene.camera, options.width, options.height, world.origin());
-    Lanes::new(&tracer, &camera).is_some()
+    let traced = Lanes::new(&tracer, &camera).is_some();
+    traced
 }
 
 /// The pixels' bits, rays and dropped samples of a render.
@@ -84,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 9] = [
+    let variants: [&[(&str, &str)]; 12] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -94,13 +95,29 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         &[("lift", "1e15")],
         &[("lens", "0.2")],
         &[("close", "0")],
+        &[("critter", "true")],
+        &[
+            ("critter", "true"),
+            ("bare", "true"),
+            ("textured", "true"),
+            ("tilt", "0"),
+        ],
+        &[("critter", "true"), ("ball", "true")],
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);
-        // Both ways of tracing the lanes' rays: crossings first in a world
-        // of flat faces only, whole hits one lane at a time otherwise.
-        let flat = World::build(&scene).expect("builds").flat_set().is_some();
-        assert_eq!(flat, !defines.contains(&("ball", "true")), "{defines:?}");
+        // Every way of tracing the lanes' rays: crossings first in a world
+        // of flat faces only; a mesh beside faces whose crossings are found
+        // first (many faces, or a few rects) or asked one lane at a time (a
+        // ball among them); whole hits one lane at a time otherwise.
+        let world = World::build(&scene).expect("builds");
+        let has = |k| defines.contains(&(k, "true"));
+        let flat = !has("ball") && !has("critter");
+        assert_eq!(world.flat_set().is_some(), flat, "{defines:?}");
+        let parts = world.parts();
+        assert_eq!(parts.is_some(), has("critter"), "{defines:?}");
+        let side_by_side = parts.as_ref().and_then(|p| p.flat()).is_some();
+        assert_eq!(side_by_side, has("critter") && !has("ball"), "{defines:?}");
         let base = RenderOptions::from_settings(&scene.settings);
         // 13 samples end inside a block; a second pass starts inside one.
         let cases = [

@@ -32,6 +32,7 @@ use super::instance::{Instance, Placement};
 use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
+use super::parts::Parts;
 use super::primitives::PrimitiveSet;
 use super::revolution::{tessellate, RevolutionSurface};
 use super::segments::MediumSegments;
@@ -133,6 +134,19 @@ impl World {
     /// ([`PrimitiveSet::first_hits`]). Flat sets have passes of their own.
     pub fn packet_set(&self) -> Option<&PrimitiveSet> {
         self.bare_set().filter(|set| !set.is_flat())
+    }
+
+    /// The world as a few meshes beside at most one flat set ([`Parts`]),
+    /// when that is what it holds: rays find their nearest hits part by
+    /// part, the flat set's crossings eight rays at a pass.
+    pub fn parts(&self) -> Option<Parts<'_>> {
+        match &self.root {
+            Root::Bare(g) => match g.as_ref() {
+                Geometry::Group(group) => group.parts(),
+                _ => None,
+            },
+            Root::Placed(_) => None,
+        }
     }
 
     /// The world's one set of primitives, when that is all it holds.

@@ -9,6 +9,7 @@
 
 use super::instance::Instance;
 use super::object::Geometry;
+use super::parts::Parts;
 use super::segments::MediumSegments;
 use super::{Aabb, Bvh, Hit, Ray};
 
@@ -26,7 +27,7 @@ const FEW_MEDIA: usize = 4;
 /// twelve surfaces (bunnies in a row) asking in turn gave 1.02, 0.99, 1.05
 /// and 0.96× the walk's rate (4 rounds each, another job running): no
 /// gain to chase past four.
-const FEW_SURFACES: usize = 4;
+pub(super) const FEW_SURFACES: usize = 4;
 
 /// Instances under one hierarchy.
 #[derive(Default)]
@@ -184,6 +185,18 @@ impl Group {
 
     pub fn bounds(&self) -> Aabb {
         self.surfaces.bounds().union(&self.media.bounds())
+    }
+
+    /// The group as [`Parts`] (a few meshes beside at most one flat set),
+    /// when it is one: no medium, nothing unbounded, and few enough
+    /// surfaces to be asked in turn.
+    pub fn parts(&self) -> Option<Parts<'_>> {
+        let s = &self.surfaces;
+        let media = !matches!(&self.media, Media::Few(list) if list.is_empty());
+        if media || !s.unbounded.is_empty() || !s.few() {
+            return None;
+        }
+        Parts::of(&s.bounded)
     }
 
     /// Whether any instance is hit with `t` in `(t_min, t_max)`; the media's

@@ -536,7 +536,9 @@ mod tests {
             let size = [1e-2, 1.0, 30.0, 3e13][group % 4];
             let rim: Vec<Vec3> = (0..=count).map(|_| hub + unit(&mut r) * size).collect();
             let tris: Vec<[Vec3; 3]> = (0..count).map(|i| [hub, rim[i], rim[i + 1]]).collect();
-            let ids: Vec<u32> = (0..count as u32).map(|i| 1000 * group as u32 + 7 * i).collect();
+            let ids: Vec<u32> = (0..count as u32)
+                .map(|i| 1000 * group as u32 + 7 * i)
+                .collect();
             let leaf = TriangleLeaf::new(&tris, &ids);
             for (lane, (t, &id)) in tris.iter().zip(&ids).enumerate() {
                 assert_eq!((leaf.corners(lane), leaf.id(lane)), (*t, id));

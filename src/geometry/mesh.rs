@@ -10,11 +10,12 @@ use glam::{Vec2, Vec3};
 
 use super::bvh::Leaves;
 use super::emitter::LightId;
+use super::hit::facing;
 use super::leaf::TriangleLeaf;
 use super::shapes::triangle::{unit_normal, ShearedRay};
 use super::shapes::ShapeHit;
 use super::tangents::{self, Tangents};
-use super::{Aabb, Bvh, Ray};
+use super::{Aabb, Bvh, Hit, Ray};
 use crate::scene::{MaterialId, MeshData};
 
 /// A mesh ready for intersection.
@@ -124,6 +125,16 @@ impl MeshGeometry {
             idx.map(|i| self.data.uvs[i])
         };
         tangents::triangle(p, uv)
+    }
+
+    /// The nearest hit with `t` in `(t_min, t_max)` as the [`Hit`] facing
+    /// the ray, what the world asks a mesh for.
+    #[inline(always)]
+    pub fn intersect_facing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let h = self.intersect(ray, t_min, t_max)?;
+        let mut hit = facing(h.hit, h.shading_normal, ray.dir, h.material, h.light);
+        hit.tangents = h.tangents;
+        Some(hit)
     }
 
     #[inline]

@@ -14,6 +14,7 @@ pub mod leaf;
 pub mod medium;
 pub mod mesh;
 pub mod object;
+pub mod parts;
 pub mod primitive;
 pub mod primitives;
 pub mod ray;

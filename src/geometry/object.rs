@@ -13,7 +13,7 @@ use glam::Vec3;
 
 use super::emitter::LightId;
 use super::group::Group;
-use super::hit::{facing, facing_flat};
+use super::hit::facing_flat;
 use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::primitive::Primitive;
@@ -108,12 +108,7 @@ impl Geometry {
                 }
                 Some(hit)
             }
-            Geometry::Mesh(mesh) => {
-                let h = mesh.intersect(ray, t_min, t_max)?;
-                let mut hit = facing(h.hit, h.shading_normal, ray.dir, h.material, h.light);
-                hit.tangents = h.tangents;
-                Some(hit)
-            }
+            Geometry::Mesh(mesh) => mesh.intersect_facing(ray, t_min, t_max),
             Geometry::Revolution { surface, material } => {
                 let s = surface.intersect(ray, t_min, t_max)?;
                 let h = ShapeHit {

@@ -32,6 +32,12 @@ pub struct PrimitiveSet {
     /// at a time, instead of walked. The BVH is built all the same:
     /// its leaf order numbers the slots, which break ties between faces at
     /// one distance, and it holds the bounds.
+    ///
+    /// A set of at most [`FEW_PRIMITIVES`] axis-aligned rects (a floor and
+    /// a lamp) has the same passes, for callers that test eight rays at
+    /// once: a rect's lane is `Rect::crossing` bit for bit, so the passes
+    /// find what asking the rects in turn finds. One ray still asks them
+    /// in turn.
     flat: Option<FlatFaces>,
 }
 
@@ -74,7 +80,9 @@ impl PrimitiveSet {
             leaf.filter(|l| l.len() > 1)
                 .map(|l: Vec<Sphere>| SphereLeaf::new(&l))
         });
-        let flat = if prims.len() <= FEW_PRIMITIVES {
+        let few = prims.len() <= FEW_PRIMITIVES;
+        let rects = prims.iter().all(|p| matches!(p, Primitive::Rect(_)));
+        let flat = if few && !rects {
             None
         } else {
             FlatFaces::new(&prims)
@@ -318,18 +326,23 @@ impl PrimitiveSet {
 
     /// Whether the set is tested in flat-face passes.
     pub fn is_flat(&self) -> bool {
+        !self.few() && self.flat.is_some()
+    }
+
+    /// Whether the set's crossings can be found by
+    /// [`PrimitiveSet::flat_crossings8`]: a flat set, or a few rects.
+    pub fn side_by_side(&self) -> bool {
         self.flat.is_some()
     }
 
-    /// A flat set's nearest crossing in `(t_min, t_max)` and its slot
-    /// (none for a set that is not flat).
+    /// The nearest crossing in `(t_min, t_max)` and its slot of a set
+    /// [`PrimitiveSet::side_by_side`] says yes for (none for another).
     #[inline]
     pub fn flat_crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(usize, Crossing)> {
         self.flat.as_ref()?.nearest(ray, t_min, t_max)
     }
 
-    /// [`PrimitiveSet::flat_crossing`] for eight rays at once (none for a
-    /// set that is not flat).
+    /// [`PrimitiveSet::flat_crossing`] for eight rays at once.
     #[inline]
     pub fn flat_crossings8(&self, rays: &[Ray; LANES], t_min: f32, t_max: f32) -> Option<Nearest8> {
         Some(self.flat.as_ref()?.nearest8(rays, t_min, t_max))
@@ -339,10 +352,13 @@ impl PrimitiveSet {
     /// [`PrimitiveSet::flat_crossings8`] gave, written into `out`:
     /// [`PrimitiveSet::flat_hit_at`]'s points, error bounds and normals,
     /// lane by lane (all eight at once where the CPU has AVX2, else a lane
-    /// at a time). A set that is not flat writes nothing.
+    /// at a time). A set that
+    /// [`PrimitiveSet::side_by_side`] says no for writes nothing.
     #[inline]
     pub fn flat_hits8(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
-        let Some(flat) = &self.flat else { return };
+        let Some(flat) = self.flat.as_ref() else {
+            return;
+        };
         if !flat.hits8(rays, near, out) {
             self.flat_hits_each(rays, near, out);
         }

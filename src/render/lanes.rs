@@ -7,7 +7,9 @@
 //! scalar code, which the compiler vectorises. Rays are traced one at a
 //! time; in a world of flat faces only (`World::flat_set`), every lane's
 //! crossing is found before any lane's hit is built, so that the eight
-//! searches run side by side. Each lane performs exactly the floating-point
+//! searches run side by side. A world of meshes beside faces
+//! (`World::parts`) is asked part by part, the faces' crossings again
+//! eight at a pass where they can be. Each lane performs exactly the floating-point
 //! operations of [`Tracer::radiance`], so an image is bit-identical to the
 //! scalar integrator's (tests/lanes.rs). Scenes it does not cover
 //! ([`Lanes::new`] says `None`) take the scalar integrator.
@@ -19,6 +21,7 @@ use super::integrator::{background, power_heuristic, survival, Previous, Tracer,
 use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
 use super::texture::lookup;
 use crate::geometry::flat::{Hits8, Nearest8};
+use crate::geometry::parts::{Nearest, Parts};
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::segments::MediumSegments;
@@ -72,6 +75,8 @@ pub struct Lanes<'a> {
     surfaces: Vec<Surface>,
     /// The light next-event estimation samples (`None`: no light sampling).
     light: Option<FlatLight>,
+    /// The world as meshes beside sets of primitives, when it is one.
+    parts: Option<Parts<'a>>,
 }
 
 impl<'a> Lanes<'a> {
@@ -114,6 +119,7 @@ impl<'a> Lanes<'a> {
             camera,
             surfaces,
             light,
+            parts: tracer.world.parts(),
         })
     }
 
@@ -134,6 +140,10 @@ impl<'a> Lanes<'a> {
         let broadcast = |bounce, dim, offset| root.slot(bounce, dim, offset).map(|s| [s; LANES]);
         let world = self.tracer.world;
         let flat = world.flat_set();
+        let parts = self.parts.as_ref();
+        // The set whose crossings are found eight rays at a pass: the
+        // world's, or the one beside its meshes.
+        let crossed = flat.or_else(|| parts.and_then(Parts::flat));
         let scene = self.tracer.scene;
         let mut media = MediumSegments::default();
         let mut alive = live;
@@ -182,31 +192,48 @@ impl<'a> Lanes<'a> {
             // a diffuse surface is shaded in lanes below.
             let mut frame = Frame::default();
             let mut diffuse = [false; LANES];
-            // A world of flat faces only: every lane's crossing first, side
-            // by side, then their hits, side by side; a lane's material
-            // comes from its face's slot, and only a lane that met a light
-            // builds its whole hit.
+            // A world of flat faces (alone or beside meshes): every lane's
+            // crossing of the faces first, side by side, then their hits,
+            // side by side; a lane whose nearest hit is a face takes its
+            // material from the face's slot, and builds its whole hit only
+            // if it met a light. A lane whose nearest hit is on a mesh
+            // builds the mesh's hit.
             let mut side_by_side = Hits8::default();
-            let flat_hits = flat.map(|set| {
+            let flat_hits = crossed.map(|set| {
                 let near = crossings(set, &ray, &alive);
                 set.flat_hits8(&ray, &near, &mut side_by_side);
                 (set, near)
             });
+            if flat_hits.is_some() {
+                frame.set_all(&side_by_side);
+            }
             for i in 0..LANES {
                 if !alive[i] {
                     continue;
                 }
                 rays[i] += 1;
-                let (material, hit) = match &flat_hits {
-                    Some((set, near)) => match near.slot[i] {
-                        u32::MAX => (None, None),
-                        slot => (Some(set.ids(slot as usize).0), None),
-                    },
-                    None => match world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media)
-                    {
-                        Some(h) => (Some(h.material), Some(h)),
-                        None => (None, None),
-                    },
+                let face = |(set, near): &(&PrimitiveSet, Nearest8)| match near.slot[i] {
+                    u32::MAX => (None, None),
+                    slot => (Some(set.ids(slot as usize).0), None),
+                };
+                let (material, hit) = match (parts, &flat_hits) {
+                    (Some(parts), _) => {
+                        let t = flat_hits
+                            .as_ref()
+                            .and_then(|(_, near)| (near.slot[i] != u32::MAX).then_some(near.t[i]));
+                        match parts.nearest(&ray[i], t) {
+                            Nearest::Miss => (None, None),
+                            Nearest::Flat => face(flat_hits.as_ref().expect("a flat set")),
+                            Nearest::Hit(h) => (Some(h.material), Some(h)),
+                        }
+                    }
+                    (None, Some(faces)) => face(faces),
+                    (None, None) => {
+                        match world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media) {
+                            Some(h) => (Some(h.material), Some(h)),
+                            None => (None, None),
+                        }
+                    }
                 };
                 let Some(material) = material else {
                     let bg = background(&scene.settings.background, ray[i].dir);
@@ -258,9 +285,6 @@ impl<'a> Lanes<'a> {
                     frame.set(i, hit);
                 }
             }
-            if flat_hits.is_some() {
-                frame.set_all(&side_by_side);
-            }
             if !diffuse.contains(&true) {
                 break;
             }
@@ -274,9 +298,10 @@ impl<'a> Lanes<'a> {
                     let (origin, to) = (s.origin.get(i), s.to.get(i));
                     let shadow = Ray::new(origin, to - origin, ray[i].time);
                     rays[i] += 1;
-                    let blocked = match flat {
-                        Some(set) => set.occluded(&shadow, 0.0, SHADOW_END),
-                        None => world.occluded(&shadow, 0.0, SHADOW_END, &mut media),
+                    let blocked = match (flat, parts) {
+                        (Some(set), _) => set.occluded(&shadow, 0.0, SHADOW_END),
+                        (None, Some(parts)) => parts.occluded(&shadow, 0.0, SHADOW_END),
+                        (None, None) => world.occluded(&shadow, 0.0, SHADOW_END, &mut media),
                     };
                     if !blocked {
                         radiance[i] += throughput[i] * s.f.get(i) * light.emit * s.scale[i];
