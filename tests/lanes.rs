@@ -116,7 +116,7 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         assert_eq!(world.flat_set().is_some(), flat, "{defines:?}");
         let parts = world.parts();
         assert_eq!(parts.is_some(), has("critter"), "{defines:?}");
-        let side_by_side = parts.as_ref().and_then(|p| p.flat()).is_some();
+        let side_by_side = parts.and_then(|p| p.view().side_by_side()).is_some();
         assert_eq!(side_by_side, has("critter") && !has("ball"), "{defines:?}");
         let base = RenderOptions::from_settings(&scene.settings);
         // 13 samples end inside a block; a second pass starts inside one.

@@ -69,6 +69,8 @@ pub struct World {
     origin: Vec3,
     /// Whether any object is a medium.
     media: bool,
+    /// The root group's surfaces, when they are [`Parts`].
+    parts: Option<Parts>,
 }
 
 impl World {
@@ -95,9 +97,17 @@ impl World {
             shift: -origin,
             ..At::WORLD
         };
-        let root = b.instance(scene.objects.iter(), &at)?;
+        let root = Root::new(b.instance(scene.objects.iter(), &at)?);
+        let parts = match &root {
+            Root::Bare(g) => match g.as_ref() {
+                Geometry::Group(group) => group.parts(),
+                _ => None,
+            },
+            Root::Placed(_) => None,
+        };
         Ok(World {
-            root: Root::new(root),
+            root,
+            parts,
             revolutions: b.revolutions,
             emitters: Emitters::finish(scene, &b.placed),
             origin,
@@ -136,17 +146,10 @@ impl World {
         self.bare_set().filter(|set| !set.is_flat())
     }
 
-    /// The world as a few meshes beside at most one flat set ([`Parts`]),
-    /// when that is what it holds: rays find their nearest hits part by
-    /// part, the flat set's crossings eight rays at a pass.
-    pub fn parts(&self) -> Option<Parts<'_>> {
-        match &self.root {
-            Root::Bare(g) => match g.as_ref() {
-                Geometry::Group(group) => group.parts(),
-                _ => None,
-            },
-            Root::Placed(_) => None,
-        }
+    /// The world as a few surfaces side by side ([`Parts`]), when that is
+    /// what it holds: rays find their nearest hits part by part.
+    pub fn parts(&self) -> Option<&Parts> {
+        self.parts.as_ref()
     }
 
     /// The world's one set of primitives, when that is all it holds.
@@ -178,6 +181,9 @@ impl World {
         media: &mut MediumSegments,
     ) -> Option<Hit> {
         media.clear();
+        if let Some(parts) = &self.parts {
+            return parts.intersect(ray, t_min, t_max);
+        }
         match &self.root {
             Root::Bare(geometry) => geometry.intersect_in_media(ray, t_min, t_max, media),
             Root::Placed(instance) => instance.intersect(ray, t_min, t_max, media),
@@ -190,6 +196,9 @@ impl World {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
         media.clear();
+        if let Some(parts) = &self.parts {
+            return parts.occluded(ray, t_min, t_max);
+        }
         match &self.root {
             Root::Bare(geometry) => geometry.occluded(ray, t_min, t_max, media),
             Root::Placed(instance) => instance.occluded(ray, t_min, t_max, media),

@@ -187,10 +187,10 @@ impl Group {
         self.surfaces.bounds().union(&self.media.bounds())
     }
 
-    /// The group as [`Parts`] (a few meshes beside at most one flat set),
-    /// when it is one: no medium, nothing unbounded, and few enough
-    /// surfaces to be asked in turn.
-    pub fn parts(&self) -> Option<Parts<'_>> {
+    /// The group as [`Parts`] (a few surfaces side by side), when it is
+    /// one: no medium, nothing unbounded, and few enough surfaces to be
+    /// asked in turn.
+    pub fn parts(&self) -> Option<Parts> {
         let s = &self.surfaces;
         let media = !matches!(&self.media, Media::Few(list) if list.is_empty());
         if media || !s.unbounded.is_empty() || !s.few() {

@@ -1,14 +1,18 @@
-//! A world of a few meshes beside sets of primitives, none of them placed,
-//! moved, emitting through an offset or holding a medium: a mesh on a floor
-//! under a lamp. [`Parts`] finds a ray's nearest hit part by part, in the
-//! order and with the box tests of the world's group, which asks its
-//! instances in turn (so the answer is the group's, bit for bit), but
-//! without the layers the group's general answer passes through (the
-//! group, its instances, their geometry): on the bunny stage those took a
-//! third as many instructions as the mesh's own intersections. The first
-//! set among the parts whose crossings can be found eight rays at a pass
-//! (flat faces, or a few rects: [`PrimitiveSet::side_by_side`]) has them
-//! handed in by the caller, who finds them so.
+//! A world of a few meshes and sets of primitives, none of them placed,
+//! moved, emitting through an offset or holding a medium, and nothing
+//! unbounded: a mesh on a floor under a lamp. [`Parts`] finds a ray's
+//! nearest hit part by part, in the order and with the box tests of the
+//! world's group, which asks its instances in turn (so the answer is the
+//! group's, bit for bit), but without the layers the group's general
+//! answer passes through (the group, its instances, their geometry, each
+//! returning the whole hit): on the bunny stage those took a third as many
+//! instructions as the mesh's own intersections. The world asks its parts
+//! so whenever it is one (`World::intersect_in_media`). The lanes ask a
+//! [`View`] of them, which takes the crossings of the first set whose
+//! crossings can be found eight rays at a pass (flat faces, or a few
+//! rects: [`PrimitiveSet::side_by_side`]) from its caller.
+
+use std::sync::Arc;
 
 use arrayvec::ArrayVec;
 
@@ -20,96 +24,92 @@ use super::object::Geometry;
 use super::primitives::PrimitiveSet;
 use super::{Aabb, Hit, Ray};
 
-/// One part: a set of primitives or a mesh.
+/// The parts of such a world, in the order its group asks them, each with
+/// its box.
+pub struct Parts {
+    parts: ArrayVec<(Aabb, Arc<Geometry>), FEW_SURFACES>,
+}
+
+/// One part, as a [`View`] holds it.
 #[derive(Clone, Copy)]
 enum Part<'a> {
     Set(&'a PrimitiveSet),
     Mesh(&'a MeshGeometry),
 }
 
-/// The parts of such a world, in the order its group asks them, each with
-/// its box.
-pub struct Parts<'a> {
+impl<'a> Part<'a> {
+    fn of(geometry: &'a Geometry) -> Part<'a> {
+        match geometry {
+            Geometry::Primitives(set) => Part::Set(set),
+            Geometry::Mesh(mesh) => Part::Mesh(mesh),
+            _ => unreachable!("parts are meshes and sets of primitives"),
+        }
+    }
+
+    #[inline(always)]
+    fn intersect(self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        match self {
+            Part::Set(set) => set.intersect_facing(ray, t_min, t_max),
+            Part::Mesh(mesh) => mesh.intersect_facing(ray, t_min, t_max),
+        }
+    }
+
+    #[inline(always)]
+    fn occluded(self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        match self {
+            Part::Set(set) => set.occluded(ray, t_min, t_max),
+            Part::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
+        }
+    }
+}
+
+/// The parts as the lanes ask them: each part's surface at hand, and the
+/// set whose crossings the caller finds.
+pub struct View<'a> {
     parts: ArrayVec<(Aabb, Part<'a>), FEW_SURFACES>,
-    flat: Option<&'a PrimitiveSet>,
+    side_by_side: Option<(usize, &'a PrimitiveSet)>,
 }
 
 /// Where a ray's nearest hit lies.
 pub enum Nearest {
     /// Nothing is hit.
     Miss,
-    /// The flat set, at the crossing the caller handed in.
+    /// The set [`View::side_by_side`] names, at the crossing handed in.
     Flat,
     /// Another part, with the hit facing the ray.
     Hit(Hit),
 }
 
-impl<'a> Parts<'a> {
+impl Parts {
     /// The parts of the instances `bounded` (a group's, in the order it
-    /// asks them), or `None` unless each is a mesh or a set of primitives,
-    /// unplaced, with its emitters numbered as they are, and one is a mesh.
-    pub(super) fn of(bounded: &'a [Instance]) -> Option<Parts<'a>> {
+    /// asks them), or `None` unless each is a mesh or a set of
+    /// primitives, unplaced, with its emitters numbered as they are.
+    pub(super) fn of(bounded: &[Instance]) -> Option<Parts> {
         let mut parts = ArrayVec::new();
-        let (mut flat, mut meshes) = (None, 0);
         for inst in bounded {
-            if !matches!(inst.placement, Placement::Identity) || inst.lights != LightId::BASE {
+            let part = matches!(
+                inst.geometry.as_ref(),
+                Geometry::Primitives(_) | Geometry::Mesh(_)
+            );
+            let unplaced = matches!(inst.placement, Placement::Identity);
+            if !part || !unplaced || inst.lights != LightId::BASE {
                 return None;
             }
-            let part = match inst.geometry.as_ref() {
-                Geometry::Mesh(m) => {
-                    meshes += 1;
-                    Part::Mesh(m)
-                }
-                Geometry::Primitives(set) => {
-                    if set.side_by_side() && flat.is_none() {
-                        flat = Some(set);
-                    }
-                    Part::Set(set)
-                }
-                _ => return None,
-            };
-            parts.try_push((inst.bounds, part)).ok()?;
+            parts.try_push((inst.bounds, inst.geometry.clone())).ok()?;
         }
-        (meshes > 0).then_some(Parts { parts, flat })
+        Some(Parts { parts })
     }
 
-    /// The first set whose crossings can be found eight rays at a pass,
-    /// which [`Parts::nearest`] takes from its caller.
-    pub fn flat(&self) -> Option<&'a PrimitiveSet> {
-        self.flat
-    }
-
-    /// Where the nearest hit of `ray` with `t` in `(0, ∞)` lies, as the
-    /// world's group finds it, given `flat_t`: the `t` of the nearest
-    /// crossing in `(0, ∞)` of the set [`Parts::flat`] names (`None`: it
-    /// has none, or there is no such set).
+    /// The nearest hit with `t` in `(t_min, t_max)`, as the world's group
+    /// finds it.
     #[inline]
-    pub fn nearest(&self, ray: &Ray, flat_t: Option<f32>) -> Nearest {
+    pub fn intersect(&self, ray: &Ray, t_min: f32, mut t_max: f32) -> Option<Hit> {
         let inv_dir = ray.dir.recip();
-        let mut t_max = f32::INFINITY;
-        let mut found = Nearest::Miss;
-        for (bounds, part) in &self.parts {
-            if !bounds.entered(ray.origin, inv_dir, t_max) {
-                continue;
-            }
-            match part {
-                // The flat set asked with `t_max` finds its nearest
-                // crossing when that lies below `t_max`, and nothing
-                // otherwise.
-                Part::Set(set) if self.flat.is_some_and(|f| std::ptr::eq(f, *set)) => {
-                    if let Some(t) = flat_t.filter(|&t| t < t_max) {
-                        (t_max, found) = (t, Nearest::Flat);
-                    }
-                }
-                Part::Set(set) => {
-                    if let Some(h) = set.intersect_facing(ray, 0.0, t_max) {
-                        (t_max, found) = (h.t, Nearest::Hit(h));
-                    }
-                }
-                Part::Mesh(mesh) => {
-                    if let Some(h) = mesh.intersect_facing(ray, 0.0, t_max) {
-                        (t_max, found) = (h.t, Nearest::Hit(h));
-                    }
+        let mut found = None;
+        for (bounds, geometry) in &self.parts {
+            if bounds.entered(ray.origin, inv_dir, t_max) {
+                if let Some(h) = Part::of(geometry).intersect(ray, t_min, t_max) {
+                    (t_max, found) = (h.t, Some(h));
                 }
             }
         }
@@ -121,12 +121,198 @@ impl<'a> Parts<'a> {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let inv_dir = ray.dir.recip();
-        self.parts.iter().any(|(bounds, part)| {
+        self.parts.iter().any(|(bounds, geometry)| {
             bounds.entered(ray.origin, inv_dir, t_max)
-                && match part {
-                    Part::Set(set) => set.occluded(ray, t_min, t_max),
-                    Part::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
-                }
+                && Part::of(geometry).occluded(ray, t_min, t_max)
         })
+    }
+
+    /// The parts as the lanes ask them.
+    pub fn view(&self) -> View<'_> {
+        let parts: ArrayVec<_, FEW_SURFACES> = self
+            .parts
+            .iter()
+            .map(|(bounds, geometry)| (*bounds, Part::of(geometry)))
+            .collect();
+        let side_by_side = parts
+            .iter()
+            .enumerate()
+            .find_map(|(k, (_, part))| match part {
+                Part::Set(set) if set.side_by_side() => Some((k, *set)),
+                _ => None,
+            });
+        View {
+            parts,
+            side_by_side,
+        }
+    }
+}
+
+impl<'a> View<'a> {
+    /// The first set whose crossings can be found eight rays at a pass,
+    /// which [`View::nearest`] takes from its caller.
+    pub fn side_by_side(&self) -> Option<&'a PrimitiveSet> {
+        self.side_by_side.map(|(_, set)| set)
+    }
+
+    /// Where the nearest hit of `ray` with `t` in `(0, ∞)` lies, as the
+    /// world's group finds it, given `flat_t`: the `t` of the nearest
+    /// crossing in `(0, ∞)` of the set [`View::side_by_side`] names
+    /// (`None`: it has none, or there is no such set).
+    #[inline]
+    pub fn nearest(&self, ray: &Ray, flat_t: Option<f32>) -> Nearest {
+        let inv_dir = ray.dir.recip();
+        let mut t_max = f32::INFINITY;
+        let mut found = Nearest::Miss;
+        let handed = self.side_by_side.map(|(k, _)| k);
+        for (k, (bounds, part)) in self.parts.iter().enumerate() {
+            if !bounds.entered(ray.origin, inv_dir, t_max) {
+                continue;
+            }
+            if handed == Some(k) {
+                // The set asked with `t_max` finds its nearest crossing
+                // when that lies below `t_max`, and nothing otherwise.
+                if let Some(t) = flat_t.filter(|&t| t < t_max) {
+                    (t_max, found) = (t, Nearest::Flat);
+                }
+            } else if let Some(h) = part.intersect(ray, 0.0, t_max) {
+                (t_max, found) = (h.t, Nearest::Hit(h));
+            }
+        }
+        found
+    }
+
+    /// Whether a part is hit with `t` in `(t_min, t_max)`, as the world's
+    /// group decides it.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let inv_dir = ray.dir.recip();
+        self.parts.iter().any(|(bounds, part)| {
+            bounds.entered(ray.origin, inv_dir, t_max) && part.occluded(ray, t_min, t_max)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::geometry::group::Group;
+    use crate::geometry::primitive::Primitive;
+    use crate::geometry::segments::MediumSegments;
+    use crate::geometry::shapes::{Rect, Sphere};
+    use crate::sampling::rng::numbers;
+    use crate::scene::object::RectPlane;
+    use crate::scene::{MaterialId, MeshData};
+
+    fn placed(geometry: Geometry) -> Instance {
+        Instance::new(Arc::new(geometry), Placement::Identity)
+    }
+
+    /// A mesh of random triangles over a floor and a lamp (two rects, a
+    /// set whose crossings can be handed in) and a set of a ball and a
+    /// wall: the parts find every ray's hit and occluder as the group's
+    /// general walk does, bit for bit, whether they ask each part or take
+    /// the rects' crossing from the caller. Two of the triangles lie in
+    /// the floor's plane, so some rays meet a triangle and the floor at one
+    /// `t`: the part asked first keeps it, as in the group.
+    #[test]
+    fn the_parts_find_the_groups_hits_and_occluders_bit_for_bit() {
+        let mut r = numbers(17);
+        let mut positions: Vec<Vec3> = (0..60)
+            .map(|_| Vec3::new(r() * 4.0 - 2.0, r() * 2.0, r() * 4.0 - 2.0))
+            .collect();
+        positions.extend([
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::new(1.0, 0.0, -1.0),
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, 1.0),
+        ]);
+        let mut triangles: Vec<[u32; 3]> = (0..20).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect();
+        triangles.extend([[60, 62, 61], [61, 62, 63]]);
+        let data = MeshData {
+            positions,
+            triangles,
+            ..MeshData::default()
+        };
+        let mesh = MeshGeometry::new(Arc::new(data), vec![MaterialId(0)]);
+        let rect = |plane, a, b, k| Primitive::Rect(Rect::new(plane, a, b, k));
+        let stage = PrimitiveSet::new(vec![
+            (
+                rect(RectPlane::Xz, (-3.0, 3.0), (-3.0, 3.0), 0.0),
+                MaterialId(1),
+                LightId::NONE,
+            ),
+            (
+                rect(RectPlane::Xz, (-0.5, 0.5), (-0.5, 0.5), 2.5),
+                MaterialId(2),
+                LightId::new(0),
+            ),
+        ]);
+        let others = PrimitiveSet::new(vec![
+            (
+                Primitive::Sphere(Sphere {
+                    center: Vec3::new(1.5, 0.6, 1.0),
+                    radius: 0.6,
+                }),
+                MaterialId(3),
+                LightId::NONE,
+            ),
+            (
+                rect(RectPlane::Xy, (-3.0, 3.0), (0.0, 3.0), -2.5),
+                MaterialId(4),
+                LightId::NONE,
+            ),
+        ]);
+        assert!(stage.side_by_side() && !others.side_by_side());
+        let group = Group::new(vec![
+            placed(Geometry::Mesh(mesh)),
+            placed(Geometry::Primitives(stage)),
+            placed(Geometry::Primitives(others)),
+        ]);
+        let parts = group.parts().expect("meshes and sets, unplaced");
+        let view = parts.view();
+        let flat = view.side_by_side().expect("the two rects");
+        let mut media = MediumSegments::default();
+        let (mut hits, mut flat_hits, mut ties) = (0, 0, 0);
+        for k in 0..20_000 {
+            let from = Vec3::new(r() * 8.0 - 4.0, r() * 4.0 - 0.5, r() * 8.0 - 4.0);
+            let to = if k % 4 == 0 {
+                // Onto the floor's square where two triangles lie in it.
+                Vec3::new(r() * 2.0 - 1.0, 0.0, r() * 2.0 - 1.0)
+            } else {
+                Vec3::new(r() * 6.0 - 3.0, r() * 3.0, r() * 6.0 - 3.0)
+            };
+            let ray = Ray::new(from, to - from, 0.0);
+            let want = group.intersect(&ray, 0.0, f32::INFINITY, &mut media);
+            assert_eq!(parts.intersect(&ray, 0.0, f32::INFINITY), want);
+            let flat_t = flat
+                .flat_crossing(&ray, 0.0, f32::INFINITY)
+                .map(|(_, c)| c.t);
+            match (view.nearest(&ray, flat_t), want) {
+                (Nearest::Miss, None) => {}
+                (Nearest::Flat, Some(h)) => {
+                    assert_eq!(Some(h.t), flat_t);
+                    assert!(h.material == MaterialId(1) || h.material == MaterialId(2));
+                    flat_hits += 1;
+                }
+                (Nearest::Hit(got), Some(h)) => {
+                    assert_eq!(got, h);
+                    ties += usize::from(flat_t == Some(h.t));
+                    hits += 1;
+                }
+                (_, want) => panic!("ray {k}: the group finds {want:?}"),
+            }
+            for t_max in [f32::INFINITY, 6.0 * r()] {
+                let want = group.occluded(&ray, 0.0, t_max, &mut media);
+                assert_eq!(parts.occluded(&ray, 0.0, t_max), want);
+                assert_eq!(view.occluded(&ray, 0.0, t_max), want);
+            }
+        }
+        assert!(
+            hits > 3000 && flat_hits > 2000 && ties > 100,
+            "{hits} {flat_hits} {ties}"
+        );
     }
 }

@@ -21,7 +21,7 @@ use super::integrator::{background, power_heuristic, survival, Previous, Tracer,
 use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
 use super::texture::lookup;
 use crate::geometry::flat::{Hits8, Nearest8};
-use crate::geometry::parts::{Nearest, Parts};
+use crate::geometry::parts::{Nearest, Parts, View};
 use crate::geometry::primitives::PrimitiveSet;
 use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::segments::MediumSegments;
@@ -75,8 +75,8 @@ pub struct Lanes<'a> {
     surfaces: Vec<Surface>,
     /// The light next-event estimation samples (`None`: no light sampling).
     light: Option<FlatLight>,
-    /// The world as meshes beside sets of primitives, when it is one.
-    parts: Option<Parts<'a>>,
+    /// The world as a few surfaces side by side, when it is one.
+    parts: Option<View<'a>>,
 }
 
 impl<'a> Lanes<'a> {
@@ -119,7 +119,7 @@ impl<'a> Lanes<'a> {
             camera,
             surfaces,
             light,
-            parts: tracer.world.parts(),
+            parts: tracer.world.parts().map(Parts::view),
         })
     }
 
@@ -143,7 +143,7 @@ impl<'a> Lanes<'a> {
         let parts = self.parts.as_ref();
         // The set whose crossings are found eight rays at a pass: the
         // world's, or the one beside its meshes.
-        let crossed = flat.or_else(|| parts.and_then(Parts::flat));
+        let crossed = flat.or_else(|| parts.and_then(View::side_by_side));
         let scene = self.tracer.scene;
         let mut media = MediumSegments::default();
         let mut alive = live;
