@@ -7,13 +7,18 @@
 //! again by walking that light's recorded path from the root, so the MIS
 //! density of an emitter hit costs O(depth).
 //!
-//! Everything is in f64: the bounds of huge or far lights and their
-//! squared distances leave f32's range. The build is a median split on the
+//! Nodes are four wide: a node's four children are weighed in one pass of
+//! SIMD lanes, and a descent passes half the levels of a binary tree. The
+//! build splits a node's lights in four by two median splits, each on the
 //! widest axis of the light centres, ties broken by light index, so the
 //! tree (and every image) is the same on every run.
+//!
+//! Everything is in f64: the bounds of huge or far lights and their
+//! squared distances leave f32's range.
 
 use glam::{DQuat, DVec3};
-use wide::{f64x2, CmpGt, CmpLe, CmpLt};
+
+use super::light_lanes::{Mask4, F4};
 
 /// What a light or a set of lights can emit, bounded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,15 +53,20 @@ impl LightBounds {
     }
 }
 
-/// Two values side by side, one per child of a node.
-type Lanes = [f64; 2];
+/// Children per inner node: a descent weighs all of a node's children at
+/// once, so a wider node halves the levels (and the dependent square roots
+/// and divisions) between the root and a light.
+const WIDTH: usize = 4;
 
-/// The lanes `f(0)`, `f(1)`: written once, run for both children with the
-/// same instructions (the compiler pairs some of them into 2-wide SSE2
-/// operations, whose square roots and divisions round exactly like scalar
-/// ones, so the results are bit for bit those of one child at a time).
-fn lanes<T>(f: impl Fn(usize) -> T) -> [T; 2] {
-    [f(0), f(1)]
+/// One value per child of a node.
+type Lanes = [f64; WIDTH];
+
+/// The lanes `f(0)` … `f(3)`: written once, run for every child with the
+/// same instructions (the compiler pairs some of them into SIMD operations,
+/// whose square roots and divisions round exactly like scalar ones, so the
+/// results are bit for bit those of one child at a time).
+fn lanes<T>(f: impl Fn(usize) -> T) -> [T; WIDTH] {
+    [f(0), f(1), f(2), f(3)]
 }
 
 /// The coordinates `f(0)`, `f(1)`, `f(2)` (not `[0, 1, 2].map(f)`, which
@@ -65,27 +75,43 @@ fn xyz<T>(f: impl Fn(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
 }
 
-/// An inner node's two children's bounds as the descent reads them, in
-/// lanes (0: first child, 1: second): each box as its bounding sphere
-/// (centre, squared radius) and each normal cone with its sine, all worked
-/// out when the tree is built rather than at every shading point.
+/// The bounds of a lane without a child: no power, so it weighs nothing.
+const NOTHING: LightBounds = LightBounds {
+    min: DVec3::ZERO,
+    max: DVec3::ZERO,
+    power: 0.0,
+    axis: DVec3::Z,
+    cos_spread: 1.0,
+    two_sided: false,
+};
+
+/// An inner node's children's bounds as the descent reads them, in lanes
+/// (lane k: child k): each box as its bounding sphere (centre, squared
+/// radius) and each normal cone with its sine, all worked out when the tree
+/// is built rather than at every shading point.
 #[derive(Clone, Copy, Debug)]
-struct Pair {
+struct Quad {
     centre: [Lanes; 3],
     r2: Lanes,
+    /// The radius, `r2`'s square root.
+    r: Lanes,
     power: Lanes,
     axis: [Lanes; 3],
     cos_spread: Lanes,
     sin_spread: Lanes,
-    two_sided: [bool; 2],
+    two_sided: [bool; WIDTH],
 }
 
-impl Pair {
-    fn of(b: [LightBounds; 2]) -> Pair {
+impl Quad {
+    /// The lanes of up to [`WIDTH`] children's bounds; lanes past them
+    /// weigh nothing.
+    fn of(b: &[LightBounds]) -> Quad {
+        let b = lanes(|k| b.get(k).copied().unwrap_or(NOTHING));
         let centre = lanes(|k| b[k].centre());
-        Pair {
+        Quad {
             centre: xyz(|j| lanes(|k| centre[k][j])),
             r2: lanes(|k| 0.25 * (b[k].max - b[k].min).length_squared()),
+            r: lanes(|k| 0.5 * (b[k].max - b[k].min).length()),
             power: lanes(|k| b[k].power),
             axis: xyz(|j| lanes(|k| b[k].axis[j])),
             cos_spread: lanes(|k| b[k].cos_spread),
@@ -100,62 +126,72 @@ impl Pair {
     /// bounding sphere's radius), times the best cosine any emitting normal
     /// can make with the direction to `p` and the best cosine at `p`'s
     /// surface. All emitters here are diffuse, so nothing is emitted beyond
-    /// 90° from a normal. Both children are weighed at once in `wide`'s
-    /// `f64x2` (SSE2), whose square roots, divisions and comparisons round
-    /// exactly as scalar ones: every branch of the one-child formula is a
-    /// lane mask and a blend, and the special cases are chosen at the end.
+    /// 90° from a normal. All children are weighed at once in [`F4`]
+    /// lanes, whose square roots, divisions and comparisons round exactly
+    /// as scalar ones: every branch of the one-child formula is a lane mask
+    /// and a blend, and the special cases are chosen at the end.
+    #[inline(always)]
     fn importance(&self, p: DVec3, n: DVec3) -> Lanes {
-        let splat = f64x2::splat;
-        let (zero, one) = (f64x2::ZERO, f64x2::ONE);
-        let r2 = f64x2::from(self.r2);
-        let to = xyz(|j| splat(p[j]) - f64x2::from(self.centre[j]));
+        let splat = F4::splat;
+        let (zero, one) = (F4::ZERO, F4::ONE);
+        let r2 = F4(self.r2);
+        let to = xyz(|j| splat(p[j]) - F4(self.centre[j]));
         let dist2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
         let d2 = dist2.max(r2);
-        let dist = dist2.sqrt();
-        let away = dist2.cmp_gt(zero);
-        let wi = xyz(|j| away.blend(to[j] / dist, splat(DVec3::Z[j])));
+        let inv = one / dist2.sqrt();
+        let away = dist2.gt(zero);
+        let wi = xyz(|j| away.blend(to[j] * inv, splat(DVec3::Z[j])));
         // The angle the bounds subtend from p (everything if p is inside).
-        let sin2 = r2 / dist2;
-        let inside = dist2.cmp_le(r2);
-        let sin_b = inside.blend(zero, sin2.sqrt());
-        let cos_b = inside.blend(-one, (one - sin2).sqrt());
-        let dot = |v: [f64x2; 3]| v[0] * wi[0] + v[1] * wi[1] + v[2] * wi[2];
-        let c = dot(xyz(|j| f64x2::from(self.axis[j])));
-        let two_sided = f64x2::from(
-            self.two_sided
-                .map(|t| if t { f64::from_bits(!0) } else { 0.0 }),
-        );
+        let sin = F4(self.r) * inv;
+        let inside = dist2.le(r2);
+        let sin_b = inside.blend(zero, sin);
+        let cos_b = inside.blend(-one, (one - sin * sin).max(zero).sqrt());
+        let dot = |v: [F4; 3]| v[0] * wi[0] + v[1] * wi[1] + v[2] * wi[2];
+        let c = dot(xyz(|j| F4(self.axis[j])));
+        let two_sided = Mask4::from_flags(self.two_sided);
         let cos_w = two_sided.blend(c.abs(), c);
         let sin_w = (one - cos_w * cos_w).max(zero).sqrt();
-        let spread = (f64x2::from(self.sin_spread), f64x2::from(self.cos_spread));
+        let spread = (F4(self.sin_spread), F4(self.cos_spread));
         let x = angle_minus((sin_w, cos_w), spread);
         let cos_p = angle_minus(x, (sin_b, cos_b)).1;
-        let mut importance = f64x2::from(self.power) * cos_p / d2;
+        let mut importance = F4(self.power) * cos_p / d2;
         if n != DVec3::ZERO {
             let cos_i = dot(xyz(|j| splat(n[j]))).abs();
             let sin_i = (one - cos_i * cos_i).max(zero).sqrt();
             importance *= angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
         }
-        let usable = d2.cmp_gt(zero) & d2.cmp_lt(splat(f64::INFINITY));
-        let weighed = cos_p.cmp_le(zero).blend(zero, importance.max(zero));
-        usable.blend(weighed, f64x2::from(self.power)).to_array()
+        let usable = d2.gt(zero) & d2.lt(splat(f64::INFINITY));
+        let weighed = cos_p.le(zero).blend(zero, importance.max(zero));
+        usable.blend(weighed, F4(self.power)).0
+    }
+
+    /// [`Quad::importance`] compiled for AVX.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn importance_avx(&self, p: DVec3, n: DVec3) -> Lanes {
+        self.importance(p, n)
     }
 }
 
 /// Per lane, (sin, cos) of max(0, a − b) for angles in [0, π] given as
 /// (sin, cos).
-fn angle_minus((sin_a, cos_a): (f64x2, f64x2), (sin_b, cos_b): (f64x2, f64x2)) -> (f64x2, f64x2) {
-    let none = cos_a.cmp_gt(cos_b);
+#[inline(always)]
+fn angle_minus((sin_a, cos_a): (F4, F4), (sin_b, cos_b): (F4, F4)) -> (F4, F4) {
+    let none = cos_a.gt(cos_b);
     let sin = clamp_unit(sin_a * cos_b - cos_a * sin_b);
     let cos = clamp_unit(cos_a * cos_b + sin_a * sin_b);
-    (none.blend(f64x2::ZERO, sin), none.blend(f64x2::ONE, cos))
+    (none.blend(F4::ZERO, sin), none.blend(F4::ONE, cos))
 }
 
 /// `f64::clamp(x, -1, 1)` per lane (a NaN stays NaN).
-fn clamp_unit(x: f64x2) -> f64x2 {
-    let one = f64x2::ONE;
-    let x = x.cmp_lt(-one).blend(-one, x);
-    x.cmp_gt(one).blend(one, x)
+#[inline(always)]
+fn clamp_unit(x: F4) -> F4 {
+    let one = F4::ONE;
+    let x = x.lt(-one).blend(-one, x);
+    x.gt(one).blend(one, x)
 }
 
 /// The smallest cone (axis, cos half angle) found by widening `a` to hold
@@ -189,12 +225,32 @@ enum Child {
     Inner(u32),
 }
 
-/// An inner node: its two children's bounds side by side (a descent weighs
-/// both at once, from one place in memory) and where each leads.
+/// An inner node: its children's bounds side by side (a descent weighs all
+/// at once, from one place in memory) and where each leads; the first
+/// `count` lanes hold children.
 #[derive(Clone, Copy, Debug)]
 struct Inner {
-    bounds: Pair,
-    children: [Child; 2],
+    bounds: Quad,
+    children: [Child; WIDTH],
+    count: usize,
+}
+
+impl Inner {
+    /// The children's weights from `p` (normal `n`) and their sum; `None`
+    /// if none of them can send `p` any light.
+    fn weights(&self, p: DVec3, n: DVec3) -> Option<(Lanes, f64)> {
+        #[cfg(target_arch = "x86_64")]
+        let w = if crate::simd::avx() {
+            // SAFETY: the CPU has AVX.
+            unsafe { self.bounds.importance_avx(p, n) }
+        } else {
+            self.bounds.importance(p, n)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let w = self.bounds.importance(p, n);
+        let sum = w[0] + w[1] + w[2] + w[3];
+        (sum > 0.0 && sum.is_finite()).then_some((w, sum))
+    }
 }
 
 /// The hierarchy (inner nodes, the root first; none for fewer than two
@@ -202,19 +258,22 @@ struct Inner {
 #[derive(Clone, Debug, Default)]
 pub struct LightTree {
     inner: Vec<Inner>,
-    /// Per light: the child taken at each level (bit k: 1 = second child)
-    /// and the number of levels.
+    /// Per light: the child taken at each level (bits 2k and 2k + 1: the
+    /// lane at level k) and the number of levels.
     paths: Vec<(u64, u32)>,
 }
 
 /// Below u = 1 in f64, for rescaled selection numbers.
 const ONE_MINUS_EPSILON: f64 = 1.0 - f64::EPSILON;
 
+/// Bits of a light's path per level.
+const LANE_BITS: u32 = WIDTH.trailing_zeros();
+
 impl LightTree {
     /// Builds the tree over `lights` (indexed as given).
     pub fn build(lights: &[LightBounds]) -> LightTree {
         let mut tree = LightTree {
-            inner: Vec::with_capacity(lights.len().saturating_sub(1)),
+            inner: Vec::with_capacity(lights.len() / 2),
             paths: vec![(0, 0); lights.len()],
         };
         let mut order: Vec<u32> = (0..lights.len() as u32).collect();
@@ -235,50 +294,36 @@ impl LightTree {
             self.paths[*one as usize] = (path, depth);
             return (lights[*one as usize], Child::Leaf(*one));
         }
-        let (lo, hi) = order.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &i| {
-                let c = lights[i as usize].centre();
-                (lo.min(c), hi.max(c))
-            },
-        );
-        let extent = hi - lo;
-        let axis = if extent.x >= extent.y && extent.x >= extent.z {
-            0
-        } else if extent.y >= extent.z {
-            1
-        } else {
-            2
-        };
-        order.sort_by(|&a, &b| {
-            let (ca, cb) = (
-                lights[a as usize].centre()[axis],
-                lights[b as usize].centre()[axis],
-            );
-            ca.total_cmp(&cb).then(a.cmp(&b))
-        });
         let here = self.inner.len();
-        let placeholder = lights[order[0] as usize];
         self.inner.push(Inner {
-            bounds: Pair::of([placeholder; 2]),
-            children: [Child::Leaf(0); 2],
+            bounds: Quad::of(&[]),
+            children: [Child::Leaf(0); WIDTH],
+            count: 0,
         });
-        let (first, second) = order.split_at_mut(order.len() / 2);
-        let (a, first) = self.split(lights, first, path, depth + 1);
-        let (b, second) = self.split(lights, second, path | (1 << depth), depth + 1);
+        let mut groups: Vec<&mut [u32]> = Vec::with_capacity(WIDTH);
+        if order.len() <= WIDTH {
+            groups.extend(order.chunks_mut(1));
+        } else {
+            let (a, b) = halve(lights, order);
+            let (a0, a1) = halve(lights, a);
+            let (b0, b1) = halve(lights, b);
+            groups.extend([a0, a1, b0, b1]);
+        }
+        let mut bounds = Vec::with_capacity(WIDTH);
+        let mut children = [Child::Leaf(0); WIDTH];
+        for (k, group) in groups.into_iter().enumerate() {
+            let lane_path = path | ((k as u64) << (LANE_BITS * depth));
+            let (b, child) = self.split(lights, group, lane_path, depth + 1);
+            bounds.push(b);
+            children[k] = child;
+        }
         self.inner[here] = Inner {
-            bounds: Pair::of([a, b]),
-            children: [first, second],
+            bounds: Quad::of(&bounds),
+            children,
+            count: bounds.len(),
         };
-        (a.union(&b), Child::Inner(here as u32))
-    }
-
-    /// The probability of descending into the first child of `node` from
-    /// `p` (normal `n`); `None` if neither child can send `p` any light.
-    fn first_share(node: &Inner, p: DVec3, n: DVec3) -> Option<f64> {
-        let [a, b] = node.bounds.importance(p, n);
-        let sum = a + b;
-        (sum > 0.0 && sum.is_finite()).then(|| a / sum)
+        let union = bounds[1..].iter().fold(bounds[0], |u, b| u.union(b));
+        (union, Child::Inner(here as u32))
     }
 
     /// Chooses a light for `p` (normal `n`, zero in a medium) with the
@@ -291,17 +336,25 @@ impl LightTree {
         let mut node = self.inner.first()?;
         let mut prob = 1.0;
         loop {
-            let first = Self::first_share(node, p, n)?;
-            let next = if u < first {
-                u = (u / first).min(ONE_MINUS_EPSILON);
-                prob *= first;
-                node.children[0]
-            } else {
-                u = ((u - first) / (1.0 - first)).min(ONE_MINUS_EPSILON);
-                prob *= 1.0 - first;
-                node.children[1]
-            };
-            match next {
+            let (w, sum) = node.weights(p, n)?;
+            // The lane whose stretch of [0, sum) holds u·sum; rounding past
+            // the last stretch keeps the last lane with any weight.
+            let x = u * sum;
+            let mut pick = None;
+            let mut before = 0.0;
+            for (k, &wk) in w.iter().enumerate().take(node.count) {
+                if wk > 0.0 {
+                    pick = Some((k, before));
+                    if x < before + wk {
+                        break;
+                    }
+                    before += wk;
+                }
+            }
+            let (k, start) = pick?;
+            prob *= w[k] / sum;
+            u = ((x - start) / w[k]).clamp(0.0, ONE_MINUS_EPSILON);
+            match node.children[k] {
                 Child::Leaf(i) => return Some((i as usize, prob)),
                 Child::Inner(at) => node = self.inner.get(at as usize)?,
             }
@@ -320,18 +373,48 @@ impl LightTree {
             let Some(node) = self.inner.get(at) else {
                 return 0.0;
             };
-            let Some(first) = Self::first_share(node, p, n) else {
+            let Some((w, sum)) = node.weights(p, n) else {
                 return 0.0;
             };
-            let side = usize::from(path & (1 << level) != 0);
-            prob *= if side == 0 { first } else { 1.0 - first };
-            match node.children[side] {
+            let lane = ((path >> (LANE_BITS * level)) as usize) & (WIDTH - 1);
+            prob *= w[lane] / sum;
+            match node.children[lane] {
                 Child::Inner(next) => at = next as usize,
                 Child::Leaf(_) => break,
             }
         }
         prob
     }
+}
+
+/// Sorts `order` by the light centres along their widest axis (ties by
+/// light index, so the tree is the same on every run) and splits it at the
+/// median.
+fn halve<'a>(lights: &[LightBounds], order: &'a mut [u32]) -> (&'a mut [u32], &'a mut [u32]) {
+    let (lo, hi) = order.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &i| {
+            let c = lights[i as usize].centre();
+            (lo.min(c), hi.max(c))
+        },
+    );
+    let extent = hi - lo;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    order.sort_by(|&a, &b| {
+        let (ca, cb) = (
+            lights[a as usize].centre()[axis],
+            lights[b as usize].centre()[axis],
+        );
+        ca.total_cmp(&cb).then(a.cmp(&b))
+    });
+    let half = order.len() / 2;
+    order.split_at_mut(half)
 }
 
 #[cfg(test)]
@@ -416,14 +499,21 @@ mod tests {
         let (a, b) = (LightTree::build(&lights), LightTree::build(&lights));
         assert_eq!(a.paths, b.paths);
         let mut seen = vec![false; lights.len()];
-        for child in a.inner.iter().flat_map(|node| node.children) {
+        for child in a
+            .inner
+            .iter()
+            .flat_map(|node| node.children[..node.count].to_vec())
+        {
             if let Child::Leaf(i) = child {
                 assert!(!seen[i as usize]);
                 seen[i as usize] = true;
             }
         }
         assert!(seen.iter().all(|s| *s));
-        assert_eq!(a.inner.len(), lights.len() - 1);
+        // 37 lights: a root of four, four nodes of nine or ten lights, and
+        // below those nodes of two or three: 1 + 4 + 16 inner nodes.
+        assert_eq!(a.inner.len(), 21);
+        assert!(a.paths.iter().all(|&(_, depth)| depth == 3));
     }
 
     #[test]
@@ -440,42 +530,42 @@ mod tests {
             (DVec3::new(0.5, -2.0, 0.5), DVec3::X),
         ] {
             for c in [a, b, facing_up] {
-                let [x, y] = Pair::of([c, b]).importance(p, n);
-                let [z, w] = Pair::of([a, c]).importance(p, n);
-                assert_eq!(x.to_bits(), w.to_bits());
-                assert_eq!(y.to_bits(), Pair::of([b, b]).importance(p, n)[0].to_bits());
-                assert_eq!(z.to_bits(), Pair::of([a, a]).importance(p, n)[1].to_bits());
+                let alone = |x: LightBounds| Quad::of(&[x]).importance(p, n)[0].to_bits();
+                let got = Quad::of(&[c, b, a, c]).importance(p, n);
+                assert_eq!(got.map(f64::to_bits), [c, b, a, c].map(alone));
+                let got = Quad::of(&[b, c]).importance(p, n);
+                assert_eq!(got.map(f64::to_bits), [alone(b), alone(c), 0, 0]);
             }
         }
     }
 
-    /// The one-child-at-a-time formula the lanes of [`Pair::importance`]
+    /// The one-child-at-a-time formula the lanes of [`Quad::importance`]
     /// must reproduce bit for bit (the form it had before it was written in
-    /// `f64x2`).
-    fn scalar_importance(this: &Pair, p: DVec3, n: DVec3) -> Lanes {
+    /// SIMD lanes).
+    fn scalar_importance(this: &Quad, p: DVec3, n: DVec3) -> Lanes {
         let r2 = this.r2;
         let to = xyz(|j| lanes(|k| p[j] - this.centre[j][k]));
         let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
         let d2 = lanes(|k| dist2[k].max(r2[k]));
-        let dist = lanes(|k| dist2[k].sqrt());
+        let inv = lanes(|k| 1.0 / dist2[k].sqrt());
         let wi = xyz(|j| {
             lanes(|k| {
                 if dist2[k] > 0.0 {
-                    to[j][k] / dist[k]
+                    to[j][k] * inv[k]
                 } else {
                     DVec3::Z[j]
                 }
             })
         });
         // The angle the bounds subtend from p (everything if p is inside).
-        let sin2 = lanes(|k| r2[k] / dist2[k]);
+        let sin = lanes(|k| this.r[k] * inv[k]);
         let inside = lanes(|k| dist2[k] <= r2[k]);
-        let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin2[k].sqrt() });
+        let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin[k] });
         let cos_b = lanes(|k| {
             if inside[k] {
                 -1.0
             } else {
-                (1.0 - sin2[k]).sqrt()
+                (1.0 - sin[k] * sin[k]).max(0.0).sqrt()
             }
         });
         let dot = |v: [f64; 3], k: usize| v[0] * wi[0][k] + v[1] * wi[1][k] + v[2] * wi[2][k];
@@ -526,18 +616,18 @@ mod tests {
         }
     }
 
-    /// Random pairs of bounds (wide and point-like, one- and two-sided,
-    /// narrow and full cones) seen from random points (inside some bounds,
-    /// on a centre) with random and zero normals.
+    /// Random quadruples of bounds (wide and point-like, one- and
+    /// two-sided, narrow and full cones) seen from random points (inside
+    /// some bounds, on a centre) with random and zero normals.
     #[test]
-    fn both_lanes_are_the_scalar_formula_bit_for_bit() {
+    fn every_lane_is_the_scalar_formula_bit_for_bit() {
         let mut next = numbers(0x1234);
         let mut r = move || f64::from(next());
         let v =
             |r: &mut dyn FnMut() -> f64, s: f64| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * s;
         let mut checked = [0usize; 3];
         for round in 0..4000 {
-            let bounds: Vec<LightBounds> = (0..2)
+            let bounds: Vec<LightBounds> = (0..WIDTH)
                 .map(|k| {
                     let c = v(&mut r, 8.0);
                     let h = if (round + k) % 5 == 0 {
@@ -555,7 +645,7 @@ mod tests {
                     }
                 })
                 .collect();
-            let pair = Pair::of([bounds[0], bounds[1]]);
+            let quad = Quad::of(&bounds);
             let p = match round % 7 {
                 0 => bounds[0].centre(),
                 1 => bounds[1].centre() + 0.1 * v(&mut r, 1.0),
@@ -565,14 +655,24 @@ mod tests {
                 0 => DVec3::ZERO,
                 _ => v(&mut r, 1.0).try_normalize().unwrap_or(DVec3::X),
             };
-            let (got, want) = (pair.importance(p, n), scalar_importance(&pair, p, n));
-            for k in 0..2 {
+            let (got, want) = (quad.importance(p, n), scalar_importance(&quad, p, n));
+            #[cfg(target_arch = "x86_64")]
+            if crate::simd::avx() {
+                // SAFETY: the CPU has AVX.
+                let avx = unsafe { quad.importance_avx(p, n) };
+                assert_eq!(
+                    avx.map(f64::to_bits),
+                    got.map(f64::to_bits),
+                    "round {round}"
+                );
+            }
+            for k in 0..WIDTH {
                 assert_eq!(
                     got[k].to_bits(),
                     want[k].to_bits(),
                     "lane {k}, round {round}"
                 );
-                checked[usize::from(want[k] > 0.0) + usize::from(want[k] == pair.power[k])] += 1;
+                checked[usize::from(want[k] > 0.0) + usize::from(want[k] == quad.power[k])] += 1;
             }
         }
         // Zero, weighed and whole-power (inside the bounds) answers all occur.

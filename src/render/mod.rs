@@ -16,6 +16,7 @@ pub mod interrupt;
 pub mod job;
 pub mod lamps;
 pub mod lanes;
+pub mod light_lanes;
 pub mod light_tree;
 pub mod lights;
 pub mod maps;
