@@ -168,6 +168,9 @@ impl<'a> Lanes<'a> {
         };
         let mut now = bounce_seeds(0);
         let mut shuffled = Shuffled::new(&index, &now.map(|s| s[0]));
+        // Made once: each bounce writes the lanes it shades.
+        let mut frame = Frame::default();
+        let mut shaded = Shaded::default();
         for depth in 0..self.tracer.max_depth {
             if !alive.contains(&true) {
                 break;
@@ -190,7 +193,6 @@ impl<'a> Lanes<'a> {
             let roulette = roulette[0];
             // Each lane's ray: the background ends it, an emitter ends it,
             // a diffuse surface is shaded in lanes below.
-            let mut frame = Frame::default();
             let mut diffuse = [false; LANES];
             // A world of flat faces (alone or beside meshes): every lane's
             // crossing of the faces first, side by side, then their hits,
@@ -198,14 +200,13 @@ impl<'a> Lanes<'a> {
             // material from the face's slot, and builds its whole hit only
             // if it met a light. A lane whose nearest hit is on a mesh
             // builds the mesh's hit.
-            let mut side_by_side = Hits8::default();
             let flat_hits = crossed.map(|set| {
                 let near = crossings(set, &ray, &alive);
-                set.flat_hits8(&ray, &near, &mut side_by_side);
+                set.flat_hits8(&ray, &near, &mut frame.hit);
                 (set, near)
             });
             if flat_hits.is_some() {
-                frame.set_all(&side_by_side);
+                frame.flat_normals();
             }
             for i in 0..LANES {
                 if !alive[i] {
@@ -288,7 +289,8 @@ impl<'a> Lanes<'a> {
             if !diffuse.contains(&true) {
                 break;
             }
-            let s = shade(&frame, &u, self.light.as_ref());
+            shade(&frame, &u, self.light.as_ref(), &mut shaded);
+            let s = &shaded;
             if let Some(light) = &self.light {
                 for i in 0..LANES {
                     let traced = diffuse[i] && s.traced[i];
@@ -314,7 +316,7 @@ impl<'a> Lanes<'a> {
                     continue;
                 }
                 previous[i] = Previous::Scattered {
-                    point: frame.point.get(i),
+                    point: frame.point(i),
                     normal: frame.normal.get(i),
                     pdf: s.pdf[i],
                 };
@@ -373,13 +375,14 @@ impl Lanes3 {
     }
 }
 
-/// The lanes' diffuse hits: point, its error bound, geometric and shading
-/// normals, albedo (a lane without one keeps harmless defaults).
+/// The lanes' diffuse hits: point, its error bound and geometric normal
+/// where a flat set's hits are written side by side, the shading normal
+/// and albedo beside them. A lane without a hit this bounce keeps the
+/// values of an earlier one (or zeros), which the shading computes with
+/// and nothing reads.
 #[derive(Default)]
 struct Frame {
-    point: Lanes3,
-    error: Lanes3,
-    geo_normal: Lanes3,
+    hit: Hits8,
     normal: Lanes3,
     albedo: Lanes3,
 }
@@ -387,25 +390,40 @@ struct Frame {
 impl Frame {
     #[inline(always)]
     fn set(&mut self, i: usize, hit: &Hit) {
-        self.point.set(i, hit.point);
-        self.error.set(i, hit.error);
-        self.geo_normal.set(i, hit.geo_normal);
+        for a in 0..3 {
+            self.hit.point[a][i] = hit.point[a];
+            self.hit.error[a][i] = hit.error[a];
+            self.hit.normal[a][i] = hit.geo_normal[a];
+        }
         self.normal.set(i, hit.normal);
     }
 
-    /// Every lane's point, error bound and normals from hits on flat faces
-    /// (whose geometric and shading normals are one).
+    /// Every lane's shading normal from the flat faces' hits just written
+    /// into `hit` (a flat face's geometric and shading normals are one).
     #[inline(always)]
-    fn set_all(&mut self, h: &Hits8) {
-        let lanes = |v: &[Lane<f32>; 3]| Lanes3 {
-            x: v[0],
-            y: v[1],
-            z: v[2],
-        };
-        self.point = lanes(&h.point);
-        self.error = lanes(&h.error);
-        self.geo_normal = lanes(&h.normal);
-        self.normal = lanes(&h.normal);
+    fn flat_normals(&mut self) {
+        let [x, y, z] = self.hit.normal;
+        self.normal = Lanes3 { x, y, z };
+    }
+
+    #[inline(always)]
+    fn lane(rows: &[Lane<f32>; 3], i: usize) -> Vec3 {
+        Vec3::new(rows[0][i], rows[1][i], rows[2][i])
+    }
+
+    #[inline(always)]
+    fn point(&self, i: usize) -> Vec3 {
+        Self::lane(&self.hit.point, i)
+    }
+
+    #[inline(always)]
+    fn error(&self, i: usize) -> Vec3 {
+        Self::lane(&self.hit.error, i)
+    }
+
+    #[inline(always)]
+    fn geo_normal(&self, i: usize) -> Vec3 {
+        Self::lane(&self.hit.normal, i)
     }
 }
 
@@ -416,7 +434,8 @@ struct Draws {
     bsdf: [Lane<f32>; 2],
 }
 
-/// One bounce's shading of every lane: the light sample's shadow segment
+/// One bounce's shading of every lane (made once per block, each bounce
+/// writing every field it reads): the light sample's shadow segment
 /// (`origin` to `to`, to trace if `traced`) and what the light adds when
 /// nothing blocks it (`f · emit · scale`); the scattered direction `wi`,
 /// its density and the origin `next` of the ray along it.
@@ -487,13 +506,13 @@ fn camera_rays_lanes(
 /// [`shade_lanes`] compiled for the CPU at hand (eight lanes in one AVX
 /// register where it has AVX2).
 #[inline]
-fn shade(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
+fn shade(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &mut Shaded) {
     #[cfg(target_arch = "x86_64")]
     if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2.
-        return unsafe { shade_avx2(frame, u, light) };
+        return unsafe { shade_avx2(frame, u, light, out) };
     }
-    shade_lanes(frame, u, light)
+    shade_lanes(frame, u, light, out)
 }
 
 /// [`shade_lanes`] compiled with AVX2.
@@ -502,8 +521,8 @@ fn shade(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn shade_avx2(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
-    shade_lanes(frame, u, light)
+unsafe fn shade_avx2(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &mut Shaded) {
+    shade_lanes(frame, u, light, out)
 }
 
 /// The scalar integrator's shading of a lambertian hit, lane by lane in
@@ -511,25 +530,18 @@ unsafe fn shade_avx2(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Sha
 /// the one parallelogram, the lambertian's `eval_pdf`, `spawn_to`, then
 /// `Bsdf::sample` and `Hit::spawn_origin`.
 #[inline(always)]
-fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>) -> Shaded {
-    let mut out = Shaded::default();
+fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &mut Shaded) {
     if let Some(light) = light {
-        light.sample(frame, &u.light, &mut out);
+        light.sample(frame, &u.light, out);
     }
     for i in 0..LANES {
         let n = frame.normal.get(i);
         let wi = cosine_hemisphere(n, Vec2::new(u.bsdf[0][i], u.bsdf[1][i]));
         out.pdf[i] = n.dot(wi).max(0.0) * std::f32::consts::FRAC_1_PI;
-        let next = offset_origin(
-            frame.point.get(i),
-            frame.error.get(i),
-            frame.geo_normal.get(i),
-            wi,
-        );
+        let next = offset_origin(frame.point(i), frame.error(i), frame.geo_normal(i), wi);
         out.wi.set(i, wi);
         out.next.set(i, next);
     }
-    out
 }
 
 fn flat_light(l: &Light, inv_area: f64) -> FlatLight {
@@ -567,7 +579,7 @@ impl FlatLight {
     ) {
         for i in (0..LANES).filter(|&i| !in_range[i]) {
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
-            let p = frame.point.get(i);
+            let p = frame.point(i);
             pdf[i] = area_to_solid_angle(self.inv_area, p, x, self.normal).unwrap_or(-1.0);
         }
     }
@@ -581,7 +593,7 @@ impl FlatLight {
         let mut pdf = [0.0f32; LANES];
         let mut in_range = [true; LANES];
         for i in 0..LANES {
-            let p = frame.point.get(i);
+            let p = frame.point(i);
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
             // `area_to_solid_angle`'s f32 path (its f64 one below).
             let (fast, fits, seen) = solid_angle_f32(a, x - p, self.normal);
@@ -592,11 +604,7 @@ impl FlatLight {
             self.wide_pdfs(frame, u, &in_range, &mut pdf);
         }
         for i in 0..LANES {
-            let (p, n, g) = (
-                frame.point.get(i),
-                frame.normal.get(i),
-                frame.geo_normal.get(i),
-            );
+            let (p, n, g) = (frame.point(i), frame.normal.get(i), frame.geo_normal(i));
             // The point again: recomputed, it cost less than kept from the
             // first loop (0.97x the Cornell box's rate kept, with one loop).
             let x = self.corner + u[0][i] * self.edges.0 + u[1][i] * self.edges.1;
@@ -610,7 +618,7 @@ impl FlatLight {
             let scatters = cos > 0.0 && g.dot(dir) > 0.0;
             let f = frame.albedo.get(i) * std::f32::consts::FRAC_1_PI * cos;
             let scatter_pdf = cos * std::f32::consts::FRAC_1_PI;
-            let origin = offset_origin(p, frame.error.get(i), g, x - p);
+            let origin = offset_origin(p, frame.error(i), g, x - p);
             let target = offset_origin(x, self.error, self.normal, origin - x);
             let weight = power_heuristic(pdf, scatter_pdf);
             out.traced[i] = !behind & scatters & (pdf > 0.0) & pdf.is_finite();
