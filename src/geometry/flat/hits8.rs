@@ -1,6 +1,8 @@
 //! The hits of eight rays on a flat set at the crossings [`super::rays8`]
 //! found, built side by side in AVX2 registers without a branch on the kind
-//! of face: each lane's face is gathered by its slot, both the rect's and
+//! of face: each lane's face is read by its slot (permuted out of the
+//! rows loaded as registers for up to [`TABLE`] faces, gathered beyond),
+//! both the rect's and
 //! the parallelogram's point and error bound are computed, and the lane
 //! keeps its face's. Each lane repeats `Rect::surface` or `Quad::surface`
 //! and then `facing` operation for operation, so its point, error bound and
@@ -28,8 +30,19 @@ const EDGE_U: usize = 7;
 const EDGE_V: usize = 10;
 const ROWS: usize = 13;
 
+/// The most faces (the blank one included) whose rows are read as loaded
+/// tables rather than gathered: a row of up to eight is one register and
+/// a lane's value one permute by its slot; up to sixteen, two registers,
+/// two permutes and a blend by the slot's bit 3; up to 32, four permutes
+/// and three blends. A gather of eight lanes is eight loads on AMD's
+/// cores; the corridor of the suite (seven slots) spent 16 % of its time
+/// building hits by gathers.
+const TABLE: usize = 32;
+
 /// The faces of a flat set, row after row, each row by slot and ending
-/// in a blank face that lanes without a crossing read.
+/// in a blank face that lanes without a crossing read; [`TABLE`] zeros
+/// after the last row, so that a table's load from any row's start stays
+/// in the vector.
 #[derive(Debug)]
 pub(super) struct Faces {
     rows: Vec<f32>,
@@ -52,7 +65,7 @@ impl Faces {
     /// The faces of `prims`, rects and parallelograms only.
     pub(super) fn new(prims: &[Primitive]) -> Faces {
         let stride = prims.len() + 1;
-        let mut rows = vec![0.0f32; ROWS * stride];
+        let mut rows = vec![0.0f32; ROWS * stride + TABLE];
         for (slot, p) in prims.iter().enumerate() {
             let mut set = |row: usize, values: &[f32]| {
                 for (k, &x) in values.iter().enumerate() {
@@ -85,17 +98,33 @@ impl Faces {
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2.
-            unsafe { self.hits_avx2(rays, near, out) };
+            unsafe {
+                match self.stride {
+                    0..=8 => self.hits_avx2::<8>(rays, near, out),
+                    9..=16 => self.hits_avx2::<16>(rays, near, out),
+                    17..=TABLE => self.hits_avx2::<TABLE>(rays, near, out),
+                    _ => self.hits_avx2::<0>(rays, near, out),
+                }
+            };
             return true;
         }
         false
     }
 
+    /// The hits with each lane's face read from a table of `SIZE` faces
+    /// (8, 16 or [`TABLE`], at least the stride) or, with `SIZE` 0,
+    /// gathered.
+    ///
     /// # Safety
     /// The CPU must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn hits_avx2(&self, rays: &[Ray; LANES], near: &Nearest8, out: &mut Hits8) {
+    unsafe fn hits_avx2<const SIZE: usize>(
+        &self,
+        rays: &[Ray; LANES],
+        near: &Nearest8,
+        out: &mut Hits8,
+    ) {
         use std::arch::x86_64::*;
         use std::mem::transmute;
         let blank = (self.stride - 1) as i32;
@@ -103,8 +132,30 @@ impl Faces {
         let slots: __m256i = transmute::<[u32; LANES], __m256i>(near.slot);
         // `u32::MAX` (no crossing) is -1 as a signed lane: the blank face.
         let slots = _mm256_blendv_epi8(slots, _mm256_set1_epi32(blank), slots);
-        // SAFETY: every slot is at most `blank`, within each row.
-        let row = |r: usize| _mm256_i32gather_ps::<4>(self.rows[r * self.stride..].as_ptr(), slots);
+        // The slot's bits 3 and 4 as sign bits: which register of a table
+        // holds the lane's value.
+        let bit3 = _mm256_castsi256_ps(_mm256_slli_epi32::<28>(slots));
+        let bit4 = _mm256_castsi256_ps(_mm256_slli_epi32::<27>(slots));
+        let row = |r: usize| {
+            let start = &self.rows[r * self.stride..];
+            debug_assert!(SIZE == 0 || (self.stride <= SIZE && start.len() >= SIZE));
+            // SAFETY: with a table, the rows end in `TABLE` zeros, so SIZE
+            // floats from a row's start are in the vector; every slot is
+            // at most `blank`, within each row.
+            let part = |k: usize| {
+                _mm256_permutevar8x32_ps(_mm256_loadu_ps(start.as_ptr().add(8 * k)), slots)
+            };
+            match SIZE {
+                8 => part(0),
+                16 => _mm256_blendv_ps(part(0), part(1), bit3),
+                TABLE => _mm256_blendv_ps(
+                    _mm256_blendv_ps(part(0), part(1), bit3),
+                    _mm256_blendv_ps(part(2), part(3), bit3),
+                    bit4,
+                ),
+                _ => _mm256_i32gather_ps::<4>(start.as_ptr(), slots),
+            }
+        };
         let lanes = |v: [f32; LANES]| transmute::<[f32; LANES], __m256>(v);
         let abs = |x: __m256| _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
         let (t, u, v) = (lanes(near.t), lanes(near.u), lanes(near.v));

@@ -785,9 +785,23 @@ mod tests {
         use crate::geometry::hit::facing;
         use crate::scene::MaterialId;
         let mut r = numbers(29);
-        let mut built = 0;
-        for (at, size) in [(Vec3::ZERO, 1.0), (Vec3::new(3e4, -1e3, 2e2), 20.0)] {
-            let prims = faces(at, size, &mut r);
+        // Every sixth face (seven: a table of eight slots with the blank
+        // one), every third (fourteen: a table of sixteen), every second
+        // (twenty: a table of 32) and all of them (gathered), rects and
+        // parallelograms in each.
+        let mut built = [0; 4];
+        let places = [(Vec3::ZERO, 1.0), (Vec3::new(3e4, -1e3, 2e2), 20.0)];
+        for ((at, size), (kind, step)) in places
+            .into_iter()
+            .flat_map(|place| [(0, 6), (1, 3), (2, 2), (3, 1)].map(|k| (place, k)))
+        {
+            let prims: Vec<Primitive> = faces(at, size, &mut r).into_iter().step_by(step).collect();
+            let kinds = |quad| {
+                prims
+                    .iter()
+                    .any(|p| matches!(p, Primitive::Quad(_)) == quad)
+            };
+            assert!(kinds(true) && kinds(false));
             let flat = FlatFaces::new(&prims).expect("flat");
             for eight in eights(&rays(&prims, at, size, &mut r)) {
                 let near = flat.nearest8(&eight, 0.0, f32::INFINITY);
@@ -811,11 +825,11 @@ mod tests {
                     assert_eq!(bits(lane(&hits.error)), bits(want.error), "{ray:?}");
                     assert_eq!(bits(lane(&hits.normal)), bits(want.geo_normal), "{ray:?}");
                     assert_eq!(bits(want.normal), bits(want.geo_normal));
-                    built += 1;
+                    built[kind] += 1;
                 }
             }
         }
-        assert!(built > 4_000, "{built} hits");
+        assert!(built.iter().all(|&b| b > 1_000), "{built:?} hits");
     }
 
     #[test]
