@@ -1,7 +1,7 @@
 //! Texture lookup: solid colours, 3-D and uv checkers, bilinear image
 //! lookup and turbulent-marble noise.
 
-use glam::{Vec2, Vec3};
+use glam::{BVec3, Vec2, Vec3};
 
 use crate::geometry::SurfaceUv;
 use crate::scene::texture::CheckerSpace;
@@ -45,6 +45,14 @@ fn pattern(scene: &Scene, id: crate::scene::TextureId, uv: SurfaceUv, p: Vec3) -
                         is_even(floor(s.x) + floor(s.y))
                     }
                 };
+                // Two solid cells (most checkers): a blend of the two
+                // colours rather than a branch on the cell's parity, which
+                // is as random as the hit points.
+                if let (Texture::Solid(a), Texture::Solid(b)) =
+                    (scene.texture(*even), scene.texture(*odd))
+                {
+                    return Vec3::select(BVec3::splat(is_even), *a, *b);
+                }
                 id = if is_even { *even } else { *odd };
             }
             Texture::Image(img) | Texture::Data(img) => return bilinear(img, uv.get()),
