@@ -48,27 +48,30 @@ impl SphereRays {
     /// The rows of `rays` (one to eight rays).
     #[inline(always)]
     pub fn new(rays: &[Ray]) -> SphereRays {
-        let ray = |r: usize| &rays[r.min(rays.len() - 1)];
-        // Written out: `[0, 1, 2].map` is a call that is not inlined here.
-        let origin = [
-            from_fn(|r| ray(r).origin.x),
-            from_fn(|r| ray(r).origin.y),
-            from_fn(|r| ray(r).origin.z),
-        ];
-        let dir: [Row; 3] = [
-            from_fn(|r| ray(r).dir.x),
-            from_fn(|r| ray(r).dir.y),
-            from_fn(|r| ray(r).dir.z),
-        ];
+        // Plain loops: `[0, 1, 2].map` is a call that is not inlined here,
+        // and `from_fn`'s closures were compiled out of line in some
+        // builds, a call per lane (the spheres under a sky took 8 % more
+        // instructions).
+        let mut origin = [[0.0; LANES]; 3];
+        let mut dir = [[0.0; LANES]; 3];
+        for r in 0..LANES {
+            let ray = &rays[r.min(rays.len() - 1)];
+            for a in 0..3 {
+                origin[a][r] = ray.origin[a];
+                dir[a][r] = ray.dir[a];
+            }
+        }
         // `length_squared` as glam writes it, then its root, per ray.
-        let dd: Row =
-            from_fn(|r| dir[0][r] * dir[0][r] + dir[1][r] * dir[1][r] + dir[2][r] * dir[2][r]);
-        let len: Row = from_fn(|r| dd[r].sqrt());
-        let unit = [
-            from_fn(|r| dir[0][r] / len[r]),
-            from_fn(|r| dir[1][r] / len[r]),
-            from_fn(|r| dir[2][r] / len[r]),
-        ];
+        let mut dd = [0.0; LANES];
+        let mut len = [0.0; LANES];
+        let mut unit = [[0.0; LANES]; 3];
+        for r in 0..LANES {
+            dd[r] = dir[0][r] * dir[0][r] + dir[1][r] * dir[1][r] + dir[2][r] * dir[2][r];
+            len[r] = dd[r].sqrt();
+            for a in 0..3 {
+                unit[a][r] = dir[a][r] / len[r];
+            }
+        }
         SphereRays {
             origin,
             dir,
