@@ -355,23 +355,32 @@ impl<'a> Lanes<'a> {
     }
 }
 
-/// Three coordinates in lanes.
-#[derive(Clone, Copy, Default)]
-struct Lanes3 {
-    x: Lane<f32>,
-    y: Lane<f32>,
-    z: Lane<f32>,
+/// Lane `i`'s vector from rows of coordinates (x, y, z), the layout of
+/// [`Lanes3`] and of a flat set's [`Hits8`].
+#[inline(always)]
+fn lane(rows: &[Lane<f32>; 3], i: usize) -> Vec3 {
+    Vec3::new(rows[0][i], rows[1][i], rows[2][i])
 }
+
+/// Writes `v` into lane `i` of rows of coordinates.
+#[inline(always)]
+fn set_lane(rows: &mut [Lane<f32>; 3], i: usize, v: Vec3) {
+    (rows[0][i], rows[1][i], rows[2][i]) = (v.x, v.y, v.z);
+}
+
+/// Three coordinates in lanes, one row each.
+#[derive(Clone, Copy, Default)]
+struct Lanes3([Lane<f32>; 3]);
 
 impl Lanes3 {
     #[inline(always)]
     fn get(&self, i: usize) -> Vec3 {
-        Vec3::new(self.x[i], self.y[i], self.z[i])
+        lane(&self.0, i)
     }
 
     #[inline(always)]
     fn set(&mut self, i: usize, v: Vec3) {
-        (self.x[i], self.y[i], self.z[i]) = (v.x, v.y, v.z);
+        set_lane(&mut self.0, i, v);
     }
 }
 
@@ -390,11 +399,9 @@ struct Frame {
 impl Frame {
     #[inline(always)]
     fn set(&mut self, i: usize, hit: &Hit) {
-        for a in 0..3 {
-            self.hit.point[a][i] = hit.point[a];
-            self.hit.error[a][i] = hit.error[a];
-            self.hit.normal[a][i] = hit.geo_normal[a];
-        }
+        set_lane(&mut self.hit.point, i, hit.point);
+        set_lane(&mut self.hit.error, i, hit.error);
+        set_lane(&mut self.hit.normal, i, hit.geo_normal);
         self.normal.set(i, hit.normal);
     }
 
@@ -402,28 +409,22 @@ impl Frame {
     /// into `hit` (a flat face's geometric and shading normals are one).
     #[inline(always)]
     fn flat_normals(&mut self) {
-        let [x, y, z] = self.hit.normal;
-        self.normal = Lanes3 { x, y, z };
-    }
-
-    #[inline(always)]
-    fn lane(rows: &[Lane<f32>; 3], i: usize) -> Vec3 {
-        Vec3::new(rows[0][i], rows[1][i], rows[2][i])
+        self.normal = Lanes3(self.hit.normal);
     }
 
     #[inline(always)]
     fn point(&self, i: usize) -> Vec3 {
-        Self::lane(&self.hit.point, i)
+        lane(&self.hit.point, i)
     }
 
     #[inline(always)]
     fn error(&self, i: usize) -> Vec3 {
-        Self::lane(&self.hit.error, i)
+        lane(&self.hit.error, i)
     }
 
     #[inline(always)]
     fn geo_normal(&self, i: usize) -> Vec3 {
-        Self::lane(&self.hit.normal, i)
+        lane(&self.hit.normal, i)
     }
 }
 

@@ -248,7 +248,7 @@ impl Inner {
         };
         #[cfg(not(target_arch = "x86_64"))]
         let w = self.bounds.importance(p, n);
-        let sum = w[0] + w[1] + w[2] + w[3];
+        let sum: f64 = w.iter().sum();
         (sum > 0.0 && sum.is_finite()).then_some((w, sum))
     }
 }
