@@ -11,7 +11,7 @@ use rtlang::lang::{load_scene_with, Options};
 use rtlang::render::camera::CameraRays;
 use rtlang::render::integrator::Tracer;
 use rtlang::render::lanes::Lanes;
-use rtlang::render::lights::LightList;
+use rtlang::render::lights::{LightList, LightSelection};
 use rtlang::render::{render, Crop, RenderOptions};
 use rtlang::scene::Scene;
 
@@ -85,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 12] = [
+    let variants: [&[(&str, &str)]; 16] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -103,6 +103,10 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
             ("tilt", "0"),
         ],
         &[("critter", "true"), ("ball", "true")],
+        &[("glow", "true")],
+        &[("glow", "true"), ("textured", "true"), ("two", "true")],
+        &[("glow", "true"), ("critter", "true")],
+        &[("glow", "true"), ("ball", "true"), ("bare", "true")],
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);
@@ -112,16 +116,27 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         // ball among them); whole hits one lane at a time otherwise.
         let world = World::build(&scene).expect("builds");
         let has = |k| defines.contains(&(k, "true"));
-        let flat = !has("ball") && !has("critter");
+        let round = has("ball") || has("glow");
+        let flat = !round && !has("critter");
         assert_eq!(world.flat_set().is_some(), flat, "{defines:?}");
         let parts = world.parts();
         assert_eq!(parts.is_some(), has("critter"), "{defines:?}");
         let side_by_side = parts.and_then(|p| p.view().side_by_side()).is_some();
-        assert_eq!(side_by_side, has("critter") && !has("ball"), "{defines:?}");
+        assert_eq!(side_by_side, has("critter") && !round, "{defines:?}");
+        // Balls without a mesh: one set whose rays walk it in packets.
+        let packets = world.packet_set().is_some();
+        assert_eq!(packets, round && !has("critter"), "{defines:?}");
         let base = RenderOptions::from_settings(&scene.settings);
         // 13 samples end inside a block; a second pass starts inside one.
         let cases = [
             ("light sampling", base.clone()),
+            (
+                "lights chosen by power",
+                RenderOptions {
+                    light_selection: LightSelection::Power,
+                    ..base.clone()
+                },
+            ),
             (
                 "plain paths",
                 RenderOptions {
@@ -172,14 +187,16 @@ fn the_cornell_box_is_traced_in_lanes_as_one_path_at_a_time() {
 
 #[test]
 fn scenes_the_lanes_do_not_trace_take_the_scalar_integrator() {
-    // A medium; metal and glass surfaces; several lights.
-    for (file, nee) in [
-        ("scenes/cornell_smoke.rt", true),
-        ("scenes/spheres.rt", false),
-        ("scenes/revolution.rt", true),
-        ("scenes/lamps.rt", true),
+    // A medium; metal and glass surfaces; a sun (a light that is not a
+    // shape) over the lanes' own room.
+    let sunlit: &[(&str, &str)] = &[("sunlit", "true")];
+    for (file, nee, defines) in [
+        ("scenes/cornell_smoke.rt", true, &[][..]),
+        ("scenes/spheres.rt", false, &[]),
+        ("scenes/revolution.rt", true, &[]),
+        ("tests/scenes/lanes.rt", true, sunlit),
     ] {
-        let scene = load(file, &[]);
+        let scene = load(file, defines);
         let world = World::build(&scene).expect("builds");
         let options = RenderOptions {
             light_sampling: nee,

@@ -1,24 +1,28 @@
 //! Paths in lanes: the [`BLOCK`] samples of one sampler block of a pixel
 //! traced side by side, bounce by bounce, for scenes of lambertian surfaces
-//! (of any texture) lit by at most one solid-coloured parallelogram light.
-//! The samples of a block share their Sobol' draws slot by slot (one vector
-//! each), so the shading of all eight (light point, shadow segment,
-//! cosine-weighted direction, offsets) runs as loops over lanes of the
-//! scalar code, which the compiler vectorises. Rays are traced one at a
-//! time; in a world of flat faces only (`World::flat_set`), every lane's
-//! crossing is found before any lane's hit is built, so that the eight
-//! searches run side by side. A world of meshes beside faces
-//! (`World::parts`) is asked part by part, the faces' crossings again
-//! eight at a pass where they can be. Each lane performs exactly the floating-point
-//! operations of [`Tracer::radiance`], so an image is bit-identical to the
-//! scalar integrator's (tests/lanes.rs). Scenes it does not cover
-//! ([`Lanes::new`] says `None`) take the scalar integrator.
+//! (of any texture) lit by solid-coloured shape lights. The samples of a
+//! block share their Sobol' draws slot by slot (one vector each), so the
+//! shading of all eight (cosine-weighted direction, offsets, and under one
+//! parallelogram light its point and shadow segment) runs as loops over
+//! lanes of the scalar code, which the compiler vectorises; among several
+//! lights, or one of another shape, each lane chooses and samples its
+//! light as the scalar integrator does, with the block's draws. Rays are
+//! traced one at a time; in a world of flat faces only
+//! (`World::flat_set`), every lane's crossing is found before any lane's
+//! hit is built, so that the eight searches run side by side. A world of
+//! meshes beside faces (`World::parts`) is asked part by part, the faces'
+//! crossings again eight at a pass where they can be; a world of one set
+//! of primitives (`World::packet_set`) is walked by each bounce's rays as
+//! one packet. Each lane performs exactly the floating-point operations of
+//! [`Tracer::radiance`], so an image is bit-identical to the scalar
+//! integrator's (tests/lanes.rs). Scenes it does not cover ([`Lanes::new`]
+//! says `None`) take the scalar integrator.
 
 use glam::{Vec2, Vec3};
 
 use super::camera::CameraRays;
 use super::integrator::{background, power_heuristic, survival, Previous, Tracer, ROULETTE_AFTER};
-use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightShape};
+use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightList, LightShape};
 use super::texture::lookup;
 use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::parts::{Nearest, Parts, View};
@@ -56,6 +60,24 @@ enum Surface {
     },
 }
 
+/// How the lanes sample lights.
+#[derive(Clone, Copy)]
+enum Lighting<'a> {
+    /// No light sampling.
+    Off,
+    /// One parallelogram, sampled in every lane at once.
+    Flat(FlatLight),
+    /// Any number of shape lights, each lane choosing and sampling one as
+    /// [`LightList::sample`] does, with the block's draws.
+    Many(&'a LightList),
+}
+
+impl Lighting<'_> {
+    fn samples(&self) -> bool {
+        !matches!(self, Lighting::Off)
+    }
+}
+
 /// The one light paths sample, with its point's error bound.
 #[derive(Clone, Copy, Debug)]
 struct FlatLight {
@@ -73,17 +95,20 @@ pub struct Lanes<'a> {
     tracer: &'a Tracer<'a>,
     camera: &'a CameraRays,
     surfaces: Vec<Surface>,
-    /// The light next-event estimation samples (`None`: no light sampling).
-    light: Option<FlatLight>,
+    /// How next-event estimation samples the lights.
+    lighting: Lighting<'a>,
     /// The world as a few surfaces side by side, when it is one.
     parts: Option<View<'a>>,
+    /// The world's one set of primitives whose rays walk it in packets
+    /// ([`crate::geometry::World::packet_set`]), when it is one.
+    packets: Option<&'a PrimitiveSet>,
 }
 
 impl<'a> Lanes<'a> {
     /// The lanes for `tracer` and `camera`, or `None` when the scene holds
     /// something they do not trace: a material other than a lambertian or
     /// a solid-coloured light (so no medium, whose phase function is
-    /// isotropic), or light sampling over anything but one parallelogram.
+    /// isotropic), or a light that is not a shape (a lamp, the sky).
     pub fn new(tracer: &'a Tracer<'a>, camera: &'a CameraRays) -> Option<Lanes<'a>> {
         let scene = tracer.scene;
         let solid = |id| match scene.texture(id) {
@@ -108,18 +133,21 @@ impl<'a> Lanes<'a> {
         if lights.has_lamps() {
             return None;
         }
-        let light = if tracer.light_sampling && !lights.is_empty() {
-            let (l, inv_area) = lights.single_parallelogram()?;
-            Some(flat_light(l, inv_area))
+        let lighting = if tracer.light_sampling && !lights.is_empty() {
+            match lights.single_parallelogram() {
+                Some((l, inv_area)) => Lighting::Flat(flat_light(l, inv_area)),
+                None => Lighting::Many(lights),
+            }
         } else {
-            None
+            Lighting::Off
         };
         Some(Lanes {
             tracer,
             camera,
             surfaces,
-            light,
+            lighting,
             parts: tracer.world.parts().map(Parts::view),
+            packets: tracer.world.packet_set(),
         })
     }
 
@@ -145,6 +173,7 @@ impl<'a> Lanes<'a> {
         // world's, or the one beside its meshes.
         let crossed = flat.or_else(|| parts.and_then(View::side_by_side));
         let scene = self.tracer.scene;
+        let packets = self.packets;
         let mut media = MediumSegments::default();
         let mut alive = live;
         let mut radiance = [Vec3::ZERO; LANES];
@@ -191,6 +220,13 @@ impl<'a> Lanes<'a> {
             now = next;
             let u = Draws { light, bsdf };
             let roulette = roulette[0];
+            // Among many lights, the choice's draw (the light slot's 1-D
+            // draw, before the point's).
+            let choice = match self.lighting {
+                Lighting::Many(_) => points8_each(&index, &[broadcast(depth, Dim::Light, 0)])[0][0],
+                _ => [0.0; LANES],
+            };
+            let packet_hits = packets.map(|set| packet_hits(set, &ray, &alive));
             // Each lane's ray: the background ends it, an emitter ends it,
             // a diffuse surface is shaded in lanes below.
             let mut diffuse = [false; LANES];
@@ -230,7 +266,13 @@ impl<'a> Lanes<'a> {
                     }
                     (None, Some(faces)) => face(faces),
                     (None, None) => {
-                        match world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media) {
+                        let hit = match &packet_hits {
+                            Some(hits) => hits[i],
+                            None => {
+                                world.intersect_in_media(&ray[i], 0.0, f32::INFINITY, &mut media)
+                            }
+                        };
+                        match hit {
                             Some(h) => (Some(h.material), Some(h)),
                             None => (None, None),
                         }
@@ -271,7 +313,7 @@ impl<'a> Lanes<'a> {
                         if emitted != Vec3::ZERO {
                             let weight = previous[i].emission_weight(
                                 self.tracer.lights,
-                                self.light.is_some(),
+                                self.lighting.samples(),
                                 &hit,
                             );
                             radiance[i] += throughput[i] * emitted * weight;
@@ -289,9 +331,16 @@ impl<'a> Lanes<'a> {
             if !diffuse.contains(&true) {
                 break;
             }
-            shade(&frame, &u, self.light.as_ref(), &mut shaded);
+            let flat_light = match &self.lighting {
+                Lighting::Flat(light) => Some(light),
+                _ => None,
+            };
+            shade(&frame, &u, flat_light, &mut shaded);
+            if let Lighting::Many(lights) = self.lighting {
+                sample_lights(lights, &frame, &diffuse, &choice, &u.light, &mut shaded);
+            }
             let s = &shaded;
-            if let Some(light) = &self.light {
+            if self.lighting.samples() {
                 for i in 0..LANES {
                     let traced = diffuse[i] && s.traced[i];
                     if !traced {
@@ -306,7 +355,7 @@ impl<'a> Lanes<'a> {
                         (None, None) => world.occluded(&shadow, 0.0, SHADOW_END, &mut media),
                     };
                     if !blocked {
-                        radiance[i] += throughput[i] * s.f.get(i) * light.emit * s.scale[i];
+                        radiance[i] += throughput[i] * s.f.get(i) * s.emit.get(i) * s.scale[i];
                     }
                 }
             }
@@ -446,6 +495,7 @@ struct Shaded {
     origin: Lanes3,
     to: Lanes3,
     f: Lanes3,
+    emit: Lanes3,
     scale: Lane<f32>,
     wi: Lanes3,
     pdf: Lane<f32>,
@@ -527,9 +577,9 @@ unsafe fn shade_avx2(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &
 }
 
 /// The scalar integrator's shading of a lambertian hit, lane by lane in
-/// loops without branches the compiler vectorises: `LightList::sample` of
-/// the one parallelogram, the lambertian's `eval_pdf`, `spawn_to`, then
-/// `Bsdf::sample` and `Hit::spawn_origin`.
+/// loops without branches the compiler vectorises: with `light`,
+/// `LightList::sample` of that one parallelogram, the lambertian's
+/// `eval_pdf`, `spawn_to`; then `Bsdf::sample` and `Hit::spawn_origin`.
 #[inline(always)]
 fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &mut Shaded) {
     if let Some(light) = light {
@@ -542,6 +592,48 @@ fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &mut Sh
         let next = offset_origin(frame.point(i), frame.error(i), frame.geo_normal(i), wi);
         out.wi.set(i, wi);
         out.next.set(i, next);
+    }
+}
+
+/// Next-event estimation among many lights in the lanes `diffuse` flags,
+/// lane by lane, into `out`: `LightList::sample` with the block's draws
+/// (`choice`, `u`), then, as the scalar integrator's `direct` does, the
+/// lambertian's `eval_pdf`, the density checks and `spawn_to`.
+#[inline(never)]
+fn sample_lights(
+    lights: &LightList,
+    frame: &Frame,
+    diffuse: &Lane<bool>,
+    choice: &Lane<f32>,
+    u: &[Lane<f32>; 2],
+    out: &mut Shaded,
+) {
+    for i in 0..LANES {
+        out.traced[i] = false;
+        if !diffuse[i] {
+            continue;
+        }
+        let (p, n, g) = (frame.point(i), frame.normal.get(i), frame.geo_normal(i));
+        let Some(s) = lights.sample_drawn(p, n, choice[i], Vec2::new(u[0][i], u[1][i])) else {
+            continue;
+        };
+        // The lambertian scatters towards the light, whose density is a
+        // number (the checks of `eval_pdf` and of `direct`).
+        let cos = n.dot(s.dir);
+        if !(cos > 0.0 && g.dot(s.dir) > 0.0 && s.pdf > 0.0 && s.pdf.is_finite()) {
+            continue;
+        }
+        let f = frame.albedo.get(i) * std::f32::consts::FRAC_1_PI * cos;
+        let scatter_pdf = cos * std::f32::consts::FRAC_1_PI;
+        let x = s.target.point;
+        let origin = offset_origin(p, frame.error(i), g, x - p);
+        let target = offset_origin(x, s.target.error, s.target.normal, origin - x);
+        out.traced[i] = true;
+        out.origin.set(i, origin);
+        out.to.set(i, target);
+        out.f.set(i, f);
+        out.emit.set(i, s.emitted);
+        out.scale[i] = power_heuristic(s.pdf, scatter_pdf) / s.pdf;
     }
 }
 
@@ -626,6 +718,7 @@ impl FlatLight {
             out.origin.set(i, origin);
             out.to.set(i, target);
             out.f.set(i, f);
+            out.emit.set(i, self.emit);
             out.scale[i] = weight / pdf;
         }
     }
@@ -649,6 +742,25 @@ fn crossings(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Nearest
         }
     }
     near
+}
+
+/// The hits of the live lanes' rays on `set`, in one walk of their packet
+/// ([`PrimitiveSet::first_hits`]): each the hit its ray finds alone, as the
+/// scalar integrator's paths of a block find them.
+#[inline]
+fn packet_hits(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Lane<Option<Hit>> {
+    let (mut live, mut lane_of, mut m) = ([ray[0]; LANES], [0; LANES], 0);
+    for i in (0..LANES).filter(|&i| alive[i]) {
+        (live[m], lane_of[m]) = (ray[i], i);
+        m += 1;
+    }
+    let mut hits = [None; LANES];
+    set.first_hits(&live[..m], 0.0, &mut hits[..m]);
+    let mut out = [None; LANES];
+    for (&i, h) in lane_of[..m].iter().zip(hits) {
+        out[i] = h;
+    }
+    out
 }
 
 /// Lane `i`'s surface (no facing, material or light) at its crossing

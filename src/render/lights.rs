@@ -419,19 +419,38 @@ impl LightList {
             sampler.skip_1d();
             (0, 1.0)
         } else {
-            let u = sampler.next_1d();
-            match self.selection {
-                LightSelection::Power => {
-                    let x = f64::from(u) * self.total;
-                    let i = self.cdf.partition_point(|&c| c <= x).min(last);
-                    (i, self.prepared[i].power_share)
-                }
-                LightSelection::Tree => {
-                    self.tree.sample(p.as_dvec3(), n.as_dvec3(), f64::from(u))?
-                }
-            }
+            self.choose_shape(p, n, sampler.next_1d(), last)?
         };
-        self.sample_shape(i, select, p, sampler)
+        self.sample_shape(i, select, p, sampler.next_2d())
+    }
+
+    /// [`LightList::sample`] of a list without lamps, with its draws given:
+    /// `choice` for the light (unread when there is one), `u` for its
+    /// point, the numbers the sampler would give it.
+    #[inline]
+    pub fn sample_drawn(&self, p: Vec3, n: Vec3, choice: f32, u: Vec2) -> Option<LightSample> {
+        debug_assert!(self.lamps.is_empty(), "a list of shapes");
+        let last = self.prepared.len().checked_sub(1)?;
+        let (i, select) = if last == 0 {
+            (0, 1.0)
+        } else {
+            self.choose_shape(p, n, choice, last)?
+        };
+        self.sample_shape(i, select, p, u)
+    }
+
+    /// The shape light chosen by the uniform `u` from `p` (normal `n`) among
+    /// the `last + 1` of a list without lamps, and its probability.
+    #[inline]
+    fn choose_shape(&self, p: Vec3, n: Vec3, u: f32, last: usize) -> Option<(usize, f64)> {
+        match self.selection {
+            LightSelection::Power => {
+                let x = f64::from(u) * self.total;
+                let i = self.cdf.partition_point(|&c| c <= x).min(last);
+                Some((i, self.prepared[i].power_share))
+            }
+            LightSelection::Tree => self.tree.sample(p.as_dvec3(), n.as_dvec3(), f64::from(u)),
+        }
     }
 
     /// Chooses among every light, lamps included, with the uniform `u`:
@@ -480,7 +499,7 @@ impl LightList {
         let u = sampler.next_1d();
         let (i, select) = self.choose(p, n, u)?;
         if i < self.prepared.len() {
-            return self.sample_shape(i, select, p, sampler);
+            return self.sample_shape(i, select, p, sampler.next_2d());
         }
         let lamp = &self.lamps[i - self.prepared.len()];
         let (centre, radius) = self.reach;
@@ -498,13 +517,12 @@ impl LightList {
         i: usize,
         select: f64,
         p: Vec3,
-        sampler: &mut Sampler,
+        Vec2 { x: u1, y: u2 }: Vec2,
     ) -> Option<LightSample> {
         let Prepared {
             light, inv_area, ..
         } = &self.prepared[i];
         let select = select as f32;
-        let Vec2 { x: u1, y: u2 } = sampler.next_2d();
         // Each arm bounds the error of `x` from the light's world-space
         // data, whose own rounding (the transform applied when the list was
         // built) is of the same order as the geometry's.
