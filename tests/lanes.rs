@@ -85,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 16] = [
+    let variants: [&[(&str, &str)]; 20] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -107,6 +107,10 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         &[("glow", "true"), ("textured", "true"), ("two", "true")],
         &[("glow", "true"), ("critter", "true")],
         &[("glow", "true"), ("ball", "true"), ("bare", "true")],
+        &[("shiny", "true")],
+        &[("shiny", "true"), ("lens", "0.2"), ("textured", "true")],
+        &[("shiny", "true"), ("critter", "true")],
+        &[("shiny", "true"), ("glow", "true"), ("critter", "true")],
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);
@@ -173,27 +177,36 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
     }
 }
 
+/// Gallery scenes: the Cornell box, and revolutions of metal beside
+/// lambertians (a world the lanes trace one ray at a time).
 #[test]
-fn the_cornell_box_is_traced_in_lanes_as_one_path_at_a_time() {
-    let scene = load("scenes/cornell.rt", &[]);
-    let options = RenderOptions {
-        width: 40,
-        height: 40,
-        spp: 20,
-        ..RenderOptions::from_settings(&scene.settings)
-    };
-    assert_same("cornell.rt", &scene, &options);
+fn gallery_scenes_are_traced_in_lanes_as_one_path_at_a_time() {
+    for (file, width, height, spp) in [
+        ("scenes/cornell.rt", 40, 40, 20),
+        ("scenes/revolution.rt", 32, 24, 11),
+    ] {
+        let scene = load(file, &[]);
+        let options = RenderOptions {
+            width,
+            height,
+            spp,
+            ..RenderOptions::from_settings(&scene.settings)
+        };
+        assert_same(file, &scene, &options);
+    }
 }
 
 #[test]
 fn scenes_the_lanes_do_not_trace_take_the_scalar_integrator() {
-    // A medium; metal and glass surfaces; a sun (a light that is not a
-    // shape) over the lanes' own room.
+    // A medium; metal and glass in a world whose rays walk it in packets
+    // (the book-1 spheres, and the lanes' room with a ball); a sun (a
+    // light that is not a shape) over the lanes' own room.
     let sunlit: &[(&str, &str)] = &[("sunlit", "true")];
+    let shiny_ball: &[(&str, &str)] = &[("shiny", "true"), ("ball", "true")];
     for (file, nee, defines) in [
         ("scenes/cornell_smoke.rt", true, &[][..]),
         ("scenes/spheres.rt", false, &[]),
-        ("scenes/revolution.rt", true, &[]),
+        ("tests/scenes/lanes.rt", true, shiny_ball),
         ("tests/scenes/lanes.rt", true, sunlit),
     ] {
         let scene = load(file, defines);

@@ -181,16 +181,39 @@ impl Bsdf<'_> {
     /// this BSDF uses, the 2-D direction before the 1-D lobe choice.
     #[inline]
     pub fn sample_from(&self, wo: Vec3, sampler: &mut Sampler) -> Option<BsdfSample> {
-        let (two, one) = match self {
+        let (two, one) = self.draws();
+        let u2 = if two { sampler.next_2d() } else { Vec2::ZERO };
+        let u1 = if one { sampler.next_1d() } else { 0.0 };
+        self.sample(wo, u2, u1)
+    }
+
+    /// [`Bsdf::sample_from`] with the draws given: `first` the 2-D draw of
+    /// the first BSDF slot, `second` the 1-D draw of the next, the numbers
+    /// the sampler would give it there.
+    #[inline]
+    pub fn sample_drawn(&self, wo: Vec3, first: Vec2, second: f32) -> Option<BsdfSample> {
+        let (two, one) = self.draws();
+        let u2 = if two { first } else { Vec2::ZERO };
+        let u1 = match (two, one) {
+            (_, false) => 0.0,
+            (true, true) => second,
+            // The lobe choice alone takes the first slot's 1-D draw.
+            (false, true) => first.x,
+        };
+        self.sample(wo, u2, u1)
+    }
+
+    /// Whether sampling draws a 2-D number (the direction) and a 1-D one
+    /// (the lobe choice or ball radius), in that order.
+    #[inline]
+    fn draws(&self) -> (bool, bool) {
+        match self {
             Bsdf::Lambertian { .. } | Bsdf::Isotropic { .. } => (true, false),
             Bsdf::FuzzyMetal { .. } => (true, true),
             Bsdf::Rough { lobe, .. } => (true, lobe.chooses()),
             Bsdf::Dielectric { .. } => (false, true),
             Bsdf::Mirror { .. } | Bsdf::Emitter { .. } => (false, false),
-        };
-        let u2 = if two { sampler.next_2d() } else { Vec2::ZERO };
-        let u1 = if one { sampler.next_1d() } else { 0.0 };
-        self.sample(wo, u2, u1)
+        }
     }
 
     /// f(wo, wi) · |cos θi| and the density [`Bsdf::sample`] gives `wi`, or
