@@ -142,8 +142,7 @@ impl<'a> Lanes<'a> {
         let others = surfaces.iter().any(|s| matches!(s, Surface::Other));
         // Other surfaces in a world whose rays walk it in packets: the
         // scalar integrator's packets are faster there (the spheres under a
-        // sky in lanes ran at 0.860x, the book-1 spheres 0.930x), as its
-        // paths draw only the numbers they use.
+        // sky in lanes ran at 0.860x, the book-1 spheres 0.930x).
         if others && tracer.world.packet_set().is_some() {
             return None;
         }
