@@ -20,10 +20,10 @@ use std::ops::Range;
 
 use glam::Vec3;
 
-use super::bsdf::BsdfSample;
+use super::bsdf::{Bsdf, BsdfSample};
 use super::camera::CameraRays;
 use super::coat::Coats;
-use super::lights::LightList;
+use super::lights::{LightList, LightSample};
 use super::maps;
 use super::material;
 use super::options::RenderOptions;
@@ -73,12 +73,12 @@ pub(super) fn survival(throughput: Vec3, in_medium: bool) -> f32 {
 /// One path between bounces: the ray it goes on along, what it has
 /// gathered, what it still carries, and the rays it has traced.
 #[derive(Clone, Copy)]
-struct Path {
-    ray: Ray,
-    radiance: Vec3,
-    throughput: Vec3,
-    previous: Previous,
-    rays: u32,
+pub(super) struct Path {
+    pub(super) ray: Ray,
+    pub(super) radiance: Vec3,
+    pub(super) throughput: Vec3,
+    pub(super) previous: Previous,
+    pub(super) rays: u32,
 }
 
 impl Path {
@@ -102,6 +102,38 @@ impl Path {
         self.rays += 1;
         sampler.start_bounce(depth);
         sampler.draw_ahead(Dim::Bsdf);
+    }
+}
+
+/// Where a bounce's scattering takes its numbers: the sampler, at the
+/// bounce's slots, or numbers already drawn for those slots (a lane of
+/// [`super::lanes`]).
+pub(super) trait BounceDraws {
+    /// `Bsdf::sample_from` at the BSDF's slots.
+    fn scatter(&mut self, bsdf: &Bsdf, wo: Vec3) -> Option<BsdfSample>;
+    /// `LightList::sample` from `p` (normal `n`) at the light's slots.
+    fn light(&mut self, lights: &LightList, p: Vec3, n: Vec3) -> Option<LightSample>;
+    /// Russian roulette's number.
+    fn roulette(&mut self) -> f32;
+}
+
+impl BounceDraws for Sampler {
+    #[inline(always)]
+    fn scatter(&mut self, bsdf: &Bsdf, wo: Vec3) -> Option<BsdfSample> {
+        self.begin(Dim::Bsdf);
+        bsdf.sample_from(wo, self)
+    }
+
+    #[inline(always)]
+    fn light(&mut self, lights: &LightList, p: Vec3, n: Vec3) -> Option<LightSample> {
+        self.begin(Dim::Light);
+        lights.sample(p, n, self)
+    }
+
+    #[inline(always)]
+    fn roulette(&mut self) -> f32 {
+        self.begin(Dim::Roulette);
+        self.next_1d()
     }
 }
 
@@ -342,9 +374,10 @@ impl<'a> Tracer<'a> {
     }
 
     /// Bounce `depth` of `path` once its ray's surface hit (`surface`) and
-    /// the stretches of media it crosses (`media`) are known: emission,
-    /// light sampling and the scattering. Returns whether the path goes on,
-    /// along its new ray. Without `MEDIA` no free flight is sampled.
+    /// the stretches of media it crosses (`media`) are known: a free flight
+    /// in them, the background, or [`Tracer::scatter`] at the hit. Returns
+    /// whether the path goes on, along its new ray. Without `MEDIA` no free
+    /// flight is sampled.
     #[inline(always)]
     fn bounce<const MEDIA: bool>(
         &self,
@@ -368,10 +401,30 @@ impl<'a> Tracer<'a> {
             path.radiance += path.throughput * self.escaped(path.previous, nee, ray.dir);
             return false;
         };
-        sampler.begin(Dim::Bsdf);
+        self.scatter::<MEDIA>(path, depth, hit, in_medium, media, sampler)
+    }
+
+    /// The scattering of bounce `depth` of `path` at `hit` (in a medium if
+    /// `in_medium`), with the numbers `draws` gives: emission, light
+    /// sampling and the BSDF's sample, then Russian roulette. Returns
+    /// whether the path goes on, along its new ray. Without `MEDIA` no
+    /// transmittance is computed.
+    #[inline(always)]
+    pub(super) fn scatter<const MEDIA: bool>(
+        &self,
+        path: &mut Path,
+        depth: u32,
+        hit: Hit,
+        in_medium: bool,
+        media: &mut MediumSegments,
+        draws: &mut impl BounceDraws,
+    ) -> bool {
+        let lights = self.lights;
+        let nee = self.light_sampling && !lights.is_empty();
+        let ray = path.ray;
         let wo = -ray.dir;
         let bsdf = material::bsdf(self.scene, &self.coats, &hit, wo, self.world.origin());
-        let mut sample = bsdf.sample_from(wo, sampler);
+        let mut sample = draws.scatter(&bsdf, wo);
         if hit.material.needs_tangents() {
             sample = sample.filter(|s| maps::keeps_side(&hit, bsdf.facing(), s.wi));
         }
@@ -386,7 +439,7 @@ impl<'a> Tracer<'a> {
                 &hit,
                 bsdf.facing(),
                 ray.time,
-                sampler,
+                draws,
                 media,
                 |wi| bsdf.eval_pdf(wo, wi),
                 path.throughput,
@@ -415,8 +468,7 @@ impl<'a> Tracer<'a> {
         if depth >= ROULETTE_AFTER {
             let survive = survival(path.throughput, in_medium);
             if survive < 1.0 {
-                sampler.begin(Dim::Roulette);
-                if sampler.next_1d() >= survive {
+                if draws.roulette() >= survive {
                     return false;
                 }
                 path.throughput /= survive;
@@ -451,14 +503,13 @@ impl<'a> Tracer<'a> {
         hit: &Hit,
         normal: Vec3,
         time: f32,
-        sampler: &mut Sampler,
+        draws: &mut impl BounceDraws,
         media: &mut MediumSegments,
         scatter: impl Fn(Vec3) -> Option<(Vec3, f32)>,
         throughput: Vec3,
         radiance: &mut Vec3,
     ) -> u32 {
-        sampler.begin(Dim::Light);
-        let Some(s) = lights.sample(hit.point, normal, sampler) else {
+        let Some(s) = draws.light(lights, hit.point, normal) else {
             return 0;
         };
         let Some((f, scatter_pdf)) = scatter(s.dir) else {

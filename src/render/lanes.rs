@@ -8,7 +8,7 @@
 //! lights, or one of another shape, each lane chooses and samples its
 //! light as the scalar integrator does, with the block's draws, and a lane
 //! on any other surface (metal, glass, the microfacet lobes) runs the
-//! scalar integrator's bounce with its draws ([`Lanes::scatter`]). Rays are
+//! scalar integrator's scattering with its draws ([`Lanes::scatter`]). Rays are
 //! traced one at a time; in a world of flat faces only
 //! (`World::flat_set`), every lane's crossing is found before any lane's
 //! hit is built, so that the eight searches run side by side. A world of
@@ -22,15 +22,19 @@
 
 use glam::{Vec2, Vec3};
 
+use super::bsdf::{Bsdf, BsdfSample};
 use super::camera::CameraRays;
-use super::integrator::{background, power_heuristic, survival, Previous, Tracer, ROULETTE_AFTER};
-use super::lights::{area_to_solid_angle, solid_angle_f32, Light, LightList, LightShape};
+use super::integrator::{
+    background, power_heuristic, survival, BounceDraws, Path, Previous, Tracer, ROULETTE_AFTER,
+};
+use super::lights::{
+    area_to_solid_angle, solid_angle_f32, Light, LightList, LightSample, LightShape,
+};
 use super::texture::lookup;
-use super::{maps, material};
 use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::parts::{Nearest, Parts, View};
 use crate::geometry::primitives::PrimitiveSet;
-use crate::geometry::ray::{offset_origin, spawn_to, SHADOW_END};
+use crate::geometry::ray::{offset_origin, SHADOW_END};
 use crate::geometry::segments::MediumSegments;
 use crate::geometry::shapes::ShapeHit;
 use crate::geometry::{Hit, Ray, SurfaceUv};
@@ -107,9 +111,6 @@ pub struct Lanes<'a> {
     lighting: Lighting<'a>,
     /// The world as a few surfaces side by side, when it is one.
     parts: Option<View<'a>>,
-    /// The world's one set of primitives whose rays walk it in packets
-    /// ([`crate::geometry::World::packet_set`]), when it is one.
-    packets: Option<&'a PrimitiveSet>,
 }
 
 impl<'a> Lanes<'a> {
@@ -143,7 +144,7 @@ impl<'a> Lanes<'a> {
         // Other surfaces in a world whose rays walk it in packets: the
         // scalar integrator's packets are faster there (the spheres under a
         // sky in lanes ran at 0.860x, the book-1 spheres 0.930x).
-        if others && tracer.world.packet_set().is_some() {
+        if others && tracer.packets.is_some() {
             return None;
         }
         let lights = tracer.lights;
@@ -165,7 +166,6 @@ impl<'a> Lanes<'a> {
             others,
             lighting,
             parts: tracer.world.parts().map(Parts::view),
-            packets: tracer.world.packet_set(),
         })
     }
 
@@ -191,7 +191,7 @@ impl<'a> Lanes<'a> {
         // world's, or the one beside its meshes.
         let crossed = flat.or_else(|| parts.and_then(View::side_by_side));
         let scene = self.tracer.scene;
-        let packets = self.packets;
+        let packets = self.tracer.packets;
         let mut media = MediumSegments::default();
         let mut alive = live;
         let mut radiance = [Vec3::ZERO; LANES];
@@ -218,6 +218,12 @@ impl<'a> Lanes<'a> {
         // Made once: each bounce writes the lanes it shades.
         let mut frame = Frame::default();
         let mut shaded = Shaded::default();
+        if let Lighting::Flat(light) = &self.lighting {
+            // One light's radiance in every lane, for the whole block.
+            for i in 0..LANES {
+                shaded.emit.set(i, light.emit);
+            }
+        }
         for depth in 0..self.tracer.max_depth {
             if !alive.contains(&true) {
                 break;
@@ -245,9 +251,10 @@ impl<'a> Lanes<'a> {
                 _ => [0.0; LANES],
             };
             // The BSDF's second draw, which only other surfaces read.
-            let bsdf1 = match self.others {
-                true => points8_each(&index, &[broadcast(depth, Dim::Bsdf, 1)])[0][0],
-                false => [0.0; LANES],
+            let bsdf1 = if self.others {
+                points8_each(&index, &[broadcast(depth, Dim::Bsdf, 1)])[0][0]
+            } else {
+                [0.0; LANES]
             };
             let packet_hits = packets.map(|set| packet_hits(set, &ray, &alive));
             // Each lane's ray: the background ends it, an emitter ends it,
@@ -324,10 +331,7 @@ impl<'a> Lanes<'a> {
                         self.textured(tex, uv, point)
                     }
                     Surface::Emitter { emit, two_sided } => {
-                        let hit = hit.unwrap_or_else(|| {
-                            let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
-                            flat_hit(set, near, i, &ray[i])
-                        });
+                        let hit = whole_hit(hit, flat_hits.as_ref(), i, &ray[i]);
                         let emitted = if hit.front_face || two_sided {
                             emit
                         } else {
@@ -345,27 +349,24 @@ impl<'a> Lanes<'a> {
                         continue;
                     }
                     Surface::Other => {
-                        let hit = hit.unwrap_or_else(|| {
-                            let (set, near) = flat_hits.as_ref().expect("a flat set's lane");
-                            flat_hit(set, near, i, &ray[i])
-                        });
-                        let draws = LaneDraws {
+                        // The scalar integrator's scattering, with this
+                        // lane's draws.
+                        let mut draws = LaneDraws {
                             bsdf: Vec2::new(u.bsdf[0][i], u.bsdf[1][i]),
                             bsdf1: bsdf1[i],
                             choice: choice[i],
                             light: Vec2::new(u.light[0][i], u.light[1][i]),
                             roulette: roulette[i],
                         };
+                        let hit = whole_hit(hit, flat_hits.as_ref(), i, &ray[i]);
                         let path = LanePath {
+                            ray: &mut ray[i],
                             radiance: &mut radiance[i],
                             throughput: &mut throughput[i],
-                            rays: &mut rays[i],
                             previous: &mut previous[i],
+                            rays: &mut rays[i],
                         };
-                        match self.scatter(&hit, &ray[i], depth, &draws, path, &mut media) {
-                            Some(next) => ray[i] = next,
-                            None => alive[i] = false,
-                        }
+                        alive[i] = self.scatter(path, depth, hit, &mut draws, &mut media);
                         continue;
                     }
                 };
@@ -439,77 +440,35 @@ impl<'a> Lanes<'a> {
         (radiance, rays)
     }
 
-    /// The scalar integrator's bounce (`Tracer::bounce`, without media) of
-    /// a lane on an other surface at `hit`, reached along `ray`, with the
-    /// lane's draws: emission, light sampling, the scattering and Russian
-    /// roulette, in its order. Returns the next ray, or `None` when the
-    /// path ends.
+    /// The scalar integrator's scattering ([`Tracer::scatter`], without
+    /// media) of a lane's path at `hit` on an other surface, with the
+    /// lane's `draws`: whether the path goes on, along its new ray. Kept
+    /// out of the lane loop.
     #[inline(never)]
     fn scatter(
         &self,
-        hit: &Hit,
-        ray: &Ray,
+        lane: LanePath,
         depth: u32,
-        d: &LaneDraws,
-        path: LanePath,
+        hit: Hit,
+        draws: &mut LaneDraws,
         media: &mut MediumSegments,
-    ) -> Option<Ray> {
-        let t = self.tracer;
-        let nee = self.lighting.samples();
-        let wo = -ray.dir;
-        let bsdf = material::bsdf(t.scene, &t.coats, hit, wo, t.world.origin());
-        let mut sample = bsdf.sample_drawn(wo, d.bsdf, d.bsdf1);
-        if hit.material.needs_tangents() {
-            sample = sample.filter(|s| maps::keeps_side(hit, bsdf.facing(), s.wi));
-        }
-        let emitted = bsdf.emitted();
-        if emitted != Vec3::ZERO {
-            let weight = path.previous.emission_weight(t.lights, nee, hit);
-            *path.radiance += *path.throughput * emitted * weight;
-        }
-        if nee && bsdf.samples_lights() {
-            // `Tracer::direct` with the lane's draws.
-            let light = t
-                .lights
-                .sample_drawn(hit.point, bsdf.facing(), d.choice, d.light);
-            let traced = light.and_then(|s| {
-                let (f, scatter_pdf) = bsdf.eval_pdf(wo, s.dir)?;
-                (s.pdf > 0.0 && s.pdf.is_finite()).then_some((s, f, scatter_pdf))
-            });
-            if let Some((s, f, scatter_pdf)) = traced {
-                *path.rays += 1;
-                let shadow = spawn_to(hit.surface_point(), s.target, ray.time);
-                if !t.world.occluded(&shadow, 0.0, SHADOW_END, media) {
-                    let weight = if s.delta {
-                        1.0
-                    } else {
-                        power_heuristic(s.pdf, scatter_pdf)
-                    };
-                    *path.radiance += *path.throughput * f * s.emitted * (weight / s.pdf);
-                }
-            }
-        }
-        let s = sample?;
-        *path.previous = if s.specular {
-            Previous::Specular
-        } else {
-            Previous::Scattered {
-                point: hit.point,
-                normal: bsdf.facing(),
-                pdf: s.pdf,
-            }
+    ) -> bool {
+        let mut path = Path {
+            ray: *lane.ray,
+            radiance: *lane.radiance,
+            throughput: *lane.throughput,
+            previous: *lane.previous,
+            rays: *lane.rays,
         };
-        *path.throughput *= s.weight;
-        if depth >= ROULETTE_AFTER {
-            let survive = survival(*path.throughput, false);
-            if survive < 1.0 {
-                if d.roulette >= survive {
-                    return None;
-                }
-                *path.throughput /= survive;
-            }
-        }
-        Some(Ray::new(hit.spawn_origin(s.wi), s.wi, ray.time))
+        let goes_on = self
+            .tracer
+            .scatter::<false>(&mut path, depth, hit, false, media, draws);
+        *lane.ray = path.ray;
+        *lane.radiance = path.radiance;
+        *lane.throughput = path.throughput;
+        *lane.previous = path.previous;
+        *lane.rays = path.rays;
+        goes_on
     }
 
     /// The albedo of texture `tex` at a hit's `uv` and `point` (in the
@@ -598,7 +557,8 @@ impl Frame {
     }
 }
 
-/// One lane's draws of a bounce on an other surface.
+/// One lane's draws of a bounce on an other surface, which the scalar
+/// integrator's scattering takes ([`Tracer::scatter`]).
 struct LaneDraws {
     /// The BSDF's first (2-D) and second (1-D) draws.
     bsdf: Vec2,
@@ -609,12 +569,31 @@ struct LaneDraws {
     roulette: f32,
 }
 
-/// One lane's path, as [`Lanes::scatter`] carries it on.
+/// One lane's path in the lanes' arrays, as [`Lanes::scatter`] carries it
+/// on.
 struct LanePath<'p> {
+    ray: &'p mut Ray,
     radiance: &'p mut Vec3,
     throughput: &'p mut Vec3,
-    rays: &'p mut u32,
     previous: &'p mut Previous,
+    rays: &'p mut u32,
+}
+
+impl BounceDraws for LaneDraws {
+    #[inline]
+    fn scatter(&mut self, bsdf: &Bsdf, wo: Vec3) -> Option<BsdfSample> {
+        bsdf.sample_drawn(wo, self.bsdf, self.bsdf1)
+    }
+
+    #[inline]
+    fn light(&mut self, lights: &LightList, p: Vec3, n: Vec3) -> Option<LightSample> {
+        lights.sample_drawn(p, n, self.choice, self.light)
+    }
+
+    #[inline]
+    fn roulette(&mut self) -> f32 {
+        self.roulette
+    }
 }
 
 /// The Sobol' draws of one bounce's shading: the light point and the
@@ -625,7 +604,8 @@ struct Draws {
 }
 
 /// One bounce's shading of every lane (made once per block, each bounce
-/// writing every field it reads): the light sample's shadow segment
+/// writing every field it reads, but for `emit` under one parallelogram,
+/// which the block sets once): the light sample's shadow segment
 /// (`origin` to `to`, to trace if `traced`) and what the light adds when
 /// nothing blocks it (`f · emit · scale`); the scattered direction `wi`,
 /// its density and the origin `next` of the ray along it.
@@ -858,7 +838,6 @@ impl FlatLight {
             out.origin.set(i, origin);
             out.to.set(i, target);
             out.f.set(i, f);
-            out.emit.set(i, self.emit);
             out.scale[i] = weight / pdf;
         }
     }
@@ -909,6 +888,22 @@ fn packet_hits(set: &PrimitiveSet, ray: &Lane<Ray>, alive: &Lane<bool>) -> Lane<
 fn flat_surface(set: &PrimitiveSet, near: &Nearest8, i: usize, ray: &Ray) -> ShapeHit {
     let (slot, c) = near.crossing(i).expect("a lane that met a face");
     set.flat_surface(slot, ray, &c)
+}
+
+/// Lane `i`'s whole hit: `hit` if the lane has built it, else built from
+/// its crossing on the flat set of `flat_hits`, which a flat set's lane
+/// does only when it needs it.
+#[inline(always)]
+fn whole_hit(
+    hit: Option<Hit>,
+    flat_hits: Option<&(&PrimitiveSet, Nearest8)>,
+    i: usize,
+    ray: &Ray,
+) -> Hit {
+    hit.unwrap_or_else(|| {
+        let (set, near) = flat_hits.expect("a flat set's lane");
+        flat_hit(set, near, i, ray)
+    })
 }
 
 /// Lane `i`'s whole hit at its crossing `near` on a flat set.
