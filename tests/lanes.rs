@@ -85,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 20] = [
+    let variants: [&[(&str, &str)]; 25] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -111,6 +111,16 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         &[("shiny", "true"), ("lens", "0.2"), ("textured", "true")],
         &[("shiny", "true"), ("critter", "true")],
         &[("shiny", "true"), ("glow", "true"), ("critter", "true")],
+        &[("orb", "1")],
+        &[
+            ("orb", "1"),
+            ("two", "true"),
+            ("textured", "true"),
+            ("lens", "0.2"),
+        ],
+        &[("orb", "1"), ("critter", "true")],
+        &[("orb", "2")],
+        &[("orb", "2"), ("critter", "true")],
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);
@@ -120,7 +130,8 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         // ball among them); whole hits one lane at a time otherwise.
         let world = World::build(&scene).expect("builds");
         let has = |k| defines.contains(&(k, "true"));
-        let round = has("ball") || has("glow");
+        let orb = defines.iter().any(|&(k, v)| k == "orb" && v != "0");
+        let round = has("ball") || has("glow") || orb;
         let flat = !round && !has("critter");
         assert_eq!(world.flat_set().is_some(), flat, "{defines:?}");
         let parts = world.parts();

@@ -28,7 +28,8 @@ use super::integrator::{
     background, power_heuristic, survival, BounceDraws, Path, Previous, Tracer, ROULETTE_AFTER,
 };
 use super::lights::{
-    area_to_solid_angle, solid_angle_f32, Light, LightList, LightSample, LightShape,
+    area_to_solid_angle, cone_extent_lane, sample_cone, solid_angle_f32, sphere_light_point, Light,
+    LightList, LightSample, LightShape,
 };
 use super::texture::lookup;
 use crate::geometry::flat::{Hits8, Nearest8};
@@ -77,6 +78,9 @@ enum Lighting<'a> {
     Off,
     /// One parallelogram, sampled in every lane at once.
     Flat(FlatLight),
+    /// One sphere, sampled in every lane at once from outside it (a lane
+    /// inside it samples the list as [`Lighting::Many`] does).
+    Ball(BallLight, &'a LightList),
     /// Any number of shape lights, each lane choosing and sampling one as
     /// [`LightList::sample`] does, with the block's draws.
     Many(&'a LightList),
@@ -96,6 +100,15 @@ struct FlatLight {
     normal: Vec3,
     error: Vec3,
     inv_area: f64,
+    emit: Vec3,
+    two_sided: bool,
+}
+
+/// The one sphere light paths sample.
+#[derive(Clone, Copy, Debug)]
+struct BallLight {
+    center: Vec3,
+    radius: f32,
     emit: Vec3,
     two_sided: bool,
 }
@@ -152,9 +165,18 @@ impl<'a> Lanes<'a> {
             return None;
         }
         let lighting = if tracer.light_sampling && !lights.is_empty() {
-            match lights.single_parallelogram() {
-                Some((l, inv_area)) => Lighting::Flat(flat_light(l, inv_area)),
-                None => Lighting::Many(lights),
+            match (lights.single_parallelogram(), lights.single_sphere()) {
+                (Some((l, inv_area)), _) => Lighting::Flat(flat_light(l, inv_area)),
+                (None, Some((center, radius, emit, two_sided))) => {
+                    let ball = BallLight {
+                        center,
+                        radius,
+                        emit,
+                        two_sided,
+                    };
+                    Lighting::Ball(ball, lights)
+                }
+                (None, None) => Lighting::Many(lights),
             }
         } else {
             Lighting::Off
@@ -218,10 +240,15 @@ impl<'a> Lanes<'a> {
         // Made once: each bounce writes the lanes it shades.
         let mut frame = Frame::default();
         let mut shaded = Shaded::default();
-        if let Lighting::Flat(light) = &self.lighting {
+        let one_emit = match &self.lighting {
+            Lighting::Flat(light) => Some(light.emit),
+            Lighting::Ball(light, _) => Some(light.emit),
+            _ => None,
+        };
+        if let Some(emit) = one_emit {
             // One light's radiance in every lane, for the whole block.
             for i in 0..LANES {
-                shaded.emit.set(i, light.emit);
+                shaded.emit.set(i, emit);
             }
         }
         for depth in 0..self.tracer.max_depth {
@@ -385,8 +412,19 @@ impl<'a> Lanes<'a> {
                 _ => None,
             };
             shade(&frame, &u, flat_light, &mut shaded);
-            if let Lighting::Many(lights) = self.lighting {
-                sample_lights(lights, &frame, &diffuse, &choice, &u.light, &mut shaded);
+            match &self.lighting {
+                Lighting::Many(lights) => {
+                    sample_lights(lights, &frame, &diffuse, &choice, &u.light, &mut shaded);
+                }
+                Lighting::Ball(ball, lights) => {
+                    let inside = ball.sample(&frame, &u.light, &mut shaded);
+                    if inside.contains(&true) {
+                        // Rare: lanes inside the sphere, sampled as among many.
+                        let inside = std::array::from_fn(|i| diffuse[i] && inside[i]);
+                        sample_lights(lights, &frame, &inside, &choice, &u.light, &mut shaded);
+                    }
+                }
+                _ => {}
             }
             let s = &shaded;
             if self.lighting.samples() {
@@ -716,7 +754,7 @@ fn shade_lanes(frame: &Frame, u: &Draws, light: Option<&FlatLight>, out: &mut Sh
 }
 
 /// Next-event estimation among many lights in the lanes `diffuse` flags,
-/// lane by lane, into `out`: `LightList::sample` with the block's draws
+/// lane by lane, into those lanes of `out`: `LightList::sample` with the block's draws
 /// (`choice`, `u`), then, as the scalar integrator's `direct` does, the
 /// lambertian's `eval_pdf`, the density checks and `spawn_to`.
 #[inline(never)]
@@ -729,10 +767,12 @@ fn sample_lights(
     out: &mut Shaded,
 ) {
     for i in 0..LANES {
-        out.traced[i] = false;
+        // Only the flagged lanes are written: a sphere light's lanes outside
+        // it are already sampled.
         if !diffuse[i] {
             continue;
         }
+        out.traced[i] = false;
         let (p, n, g) = (frame.point(i), frame.normal.get(i), frame.geo_normal(i));
         let Some(s) = lights.sample_drawn(p, n, choice[i], Vec2::new(u[0][i], u[1][i])) else {
             continue;
@@ -840,6 +880,72 @@ impl FlatLight {
             out.f.set(i, f);
             out.scale[i] = weight / pdf;
         }
+    }
+}
+
+impl BallLight {
+    /// `LightList::sample` of this light with the light-point draws `u`
+    /// from outside it, the lambertian's `eval_pdf` and the shadow segment
+    /// of `spawn_to`, in every lane, into `out`, compiled for the CPU at
+    /// hand. Returns the lanes inside the sphere (which sample its whole
+    /// surface), left to the caller. Kept apart from [`shade`]: inside it,
+    /// the Cornell box ran at 0.955x its rate.
+    #[inline(never)]
+    fn sample(&self, frame: &Frame, u: &[Lane<f32>; 2], out: &mut Shaded) -> Lane<bool> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.sample_avx2(frame, u, out) };
+        }
+        self.sample_lanes(frame, u, out)
+    }
+
+    /// [`BallLight::sample_lanes`] compiled with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sample_avx2(
+        &self,
+        frame: &Frame,
+        u: &[Lane<f32>; 2],
+        out: &mut Shaded,
+    ) -> Lane<bool> {
+        self.sample_lanes(frame, u, out)
+    }
+
+    /// [`BallLight::sample`] in a loop without branches the compiler
+    /// vectorises.
+    #[inline(always)]
+    fn sample_lanes(&self, frame: &Frame, u: &[Lane<f32>; 2], out: &mut Shaded) -> Lane<bool> {
+        let mut inside = [false; LANES];
+        let (center, radius) = (self.center, self.radius);
+        for i in 0..LANES {
+            let (p, n, g) = (frame.point(i), frame.normal.get(i), frame.geo_normal(i));
+            let (extent, outside) = cone_extent_lane(center, radius, p);
+            let (x, pdf) = sample_cone(center, radius, p, extent, u[0][i], u[1][i]);
+            let (x, error, normal) = sphere_light_point(center, radius, x);
+            let to = x - p;
+            let dist = to.length();
+            let dir = to / dist;
+            let behind = !self.two_sided && normal.dot(dir) >= 0.0;
+            // The lambertian's value and density for `dir`.
+            let cos = n.dot(dir);
+            let scatters = cos > 0.0 && g.dot(dir) > 0.0;
+            let f = frame.albedo.get(i) * std::f32::consts::FRAC_1_PI * cos;
+            let scatter_pdf = cos * std::f32::consts::FRAC_1_PI;
+            let origin = offset_origin(p, frame.error(i), g, x - p);
+            let target = offset_origin(x, error, normal, origin - x);
+            let weight = power_heuristic(pdf, scatter_pdf);
+            inside[i] = !outside;
+            out.traced[i] = outside & !behind & scatters & (pdf > 0.0) & pdf.is_finite();
+            out.origin.set(i, origin);
+            out.to.set(i, target);
+            out.f.set(i, f);
+            out.scale[i] = weight / pdf;
+        }
+        inside
     }
 }
 

@@ -529,10 +529,7 @@ impl LightList {
         let (x, error, n, pdf) = match light.shape {
             LightShape::Sphere { center, radius } => {
                 let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
-                // Reprojected onto the sphere, as a sphere hit is.
-                let n = (x - center).normalize_or(Vec3::Y);
-                let x = center + n * radius;
-                let error = gamma(8) * (Vec3::splat(radius) + center.abs()) + gamma(2) * x.abs();
+                let (x, error, n) = sphere_light_point(center, radius, x);
                 (x, error, n, pdf)
             }
             LightShape::Parallelogram {
@@ -590,6 +587,20 @@ impl LightList {
             {
                 Some((&p.light, p.inv_area))
             }
+            _ => None,
+        }
+    }
+
+    /// The list's one light, when it holds exactly one and that one is a
+    /// sphere: its centre, radius, radiance and sidedness.
+    pub fn single_sphere(&self) -> Option<(Vec3, f32, Vec3, bool)> {
+        match self.prepared.as_slice() {
+            [p] if self.lamps.is_empty() => match p.light.shape {
+                LightShape::Sphere { center, radius } => {
+                    Some((center, radius, p.light.emit, p.light.two_sided))
+                }
+                _ => None,
+            },
             _ => None,
         }
     }
@@ -709,15 +720,22 @@ pub(super) fn solid_angle_f32(a: f32, to: Vec3, n: Vec3) -> (f32, bool, bool) {
 
 /// `1 − cos θmax` of the cone a sphere subtends from `p`, if `p` is outside
 /// (in f64: the squared radius and distance of a huge sphere leave f32).
+#[inline(always)]
 fn cone_extent(center: Vec3, radius: f32, p: Vec3) -> Option<f32> {
+    let (extent, outside) = cone_extent_lane(center, radius, p);
+    outside.then_some(extent)
+}
+
+/// [`cone_extent`] without a branch, for the paths in lanes: the extent
+/// (meaningless inside) and whether `p` is outside the sphere.
+#[inline(always)]
+pub(super) fn cone_extent_lane(center: Vec3, radius: f32, p: Vec3) -> (f32, bool) {
     let d2 = (center - p).as_dvec3().length_squared();
     let r = f64::from(radius);
     let sin2 = r * r / d2;
-    if sin2 >= 1.0 {
-        return None;
-    }
-    let cos_max = (1.0 - sin2).sqrt();
-    Some((sin2 / (1.0 + cos_max)) as f32)
+    let cos_max = (1.0 - sin2).max(0.0).sqrt();
+    // A NaN counts as outside, as the branch `sin2 >= 1` has it.
+    ((sin2 / (1.0 + cos_max)) as f32, sin2 < 1.0 || sin2.is_nan())
 }
 
 /// A point of the sphere seen from `p` and its solid-angle density: uniform
@@ -728,6 +746,21 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option
         let pdf = area_to_solid_angle(sphere_area(radius).recip(), p, x, (x - center) / radius)?;
         return Some((x, pdf));
     };
+    Some(sample_cone(center, radius, p, extent, u1, u2))
+}
+
+/// [`sample_sphere`] from outside, where the cone's `extent` is known: the
+/// point and its density. Branch-free, so that the paths in lanes run it in
+/// vector registers.
+#[inline(always)]
+pub(super) fn sample_cone(
+    center: Vec3,
+    radius: f32,
+    p: Vec3,
+    extent: f32,
+    u1: f32,
+    u2: f32,
+) -> (Vec3, f32) {
     let axis = (center - p).normalize();
     let one_minus_cos = u1 * extent;
     let cos = 1.0 - one_minus_cos;
@@ -740,7 +773,17 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u1: f32, u2: f32) -> Option
     let disc = (half_b * half_b - (oc.length_squared() - radius * radius)).max(0.0);
     let t_hit = -half_b - disc.sqrt();
     let x = p + t_hit.max(0.0) * dir;
-    Some((x, 1.0 / (TAU * extent)))
+    (x, 1.0 / (TAU * extent))
+}
+
+/// A sampled point `x` of a sphere light reprojected onto the sphere, as
+/// a sphere hit is: the point, its error bound and its normal.
+#[inline(always)]
+pub(super) fn sphere_light_point(center: Vec3, radius: f32, x: Vec3) -> (Vec3, Vec3, Vec3) {
+    let n = (x - center).normalize_or(Vec3::Y);
+    let x = center + n * radius;
+    let error = gamma(8) * (Vec3::splat(radius) + center.abs()) + gamma(2) * x.abs();
+    (x, error, n)
 }
 
 /// The solid-angle density of [`sample_sphere`] for the point `x`.
