@@ -85,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 25] = [
+    let variants: [&[(&str, &str)]; 28] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -121,6 +121,9 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         &[("orb", "1"), ("critter", "true")],
         &[("orb", "2")],
         &[("orb", "2"), ("critter", "true")],
+        &[("glow", "true"), ("lift", "1e15")],
+        &[("glow", "true"), ("orb", "2")],
+        &[("glow", "true"), ("spark", "true"), ("orb", "1")],
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);

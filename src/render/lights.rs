@@ -429,14 +429,27 @@ impl LightList {
     /// point, the numbers the sampler would give it.
     #[inline]
     pub fn sample_drawn(&self, p: Vec3, n: Vec3, choice: f32, u: Vec2) -> Option<LightSample> {
+        let (i, select) = self.choose_drawn(p, n, choice)?;
+        self.sample_shape(i, select, p, u)
+    }
+
+    /// The light [`LightList::sample_drawn`] chooses with the draw
+    /// `choice` (unread when there is one): its number and probability.
+    #[inline]
+    pub fn choose_drawn(&self, p: Vec3, n: Vec3, choice: f32) -> Option<(usize, f64)> {
         debug_assert!(self.lamps.is_empty(), "a list of shapes");
         let last = self.prepared.len().checked_sub(1)?;
-        let (i, select) = if last == 0 {
-            (0, 1.0)
-        } else {
-            self.choose_shape(p, n, choice, last)?
-        };
-        self.sample_shape(i, select, p, u)
+        if last == 0 {
+            return Some((0, 1.0));
+        }
+        self.choose_shape(p, n, choice, last)
+    }
+
+    /// Shape light number `i` and its 1 / area.
+    #[inline]
+    pub fn shape(&self, i: usize) -> (&Light, f64) {
+        let p = &self.prepared[i];
+        (&p.light, p.inv_area)
     }
 
     /// The shape light chosen by the uniform `u` from `p` (normal `n`) among
@@ -512,7 +525,7 @@ impl LightList {
     /// A point of shape light `i`, chosen with probability `select`, seen
     /// from `p`.
     #[inline(always)]
-    fn sample_shape(
+    pub fn sample_shape(
         &self,
         i: usize,
         select: f64,
