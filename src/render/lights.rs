@@ -202,15 +202,33 @@ impl LightSelection {
 }
 
 /// A sampled light with what its sampling needs, computed once per render:
-/// the reciprocal area and the power share, so a sample neither recomputes
-/// an area (in f64) nor searches a table when there is one light.
+/// the reciprocal area, the power share and the error bound of its points,
+/// so a sample neither recomputes them nor searches a table when there is
+/// one light.
 #[derive(Clone, Copy, Debug)]
-struct Prepared {
-    light: Light,
+pub(super) struct Prepared {
+    pub(super) light: Light,
     /// 1 / area, in f64: the area of a huge light leaves f32's range.
-    inv_area: f64,
+    pub(super) inv_area: f64,
     /// The probability of choosing this light by power.
     power_share: f64,
+    /// The bound of a sampled point's error that the light's own data
+    /// gives ([`point_error`]); a sphere's point adds a term of its own
+    /// ([`sphere_light_point`]).
+    pub(super) error: Vec3,
+}
+
+/// The part of the error bound of a point sampled on `shape` that its
+/// world-space data gives, whose own rounding (the transform applied when
+/// the list was built) is of the same order as the geometry's.
+fn point_error(shape: &LightShape) -> Vec3 {
+    match *shape {
+        LightShape::Sphere { center, radius } => gamma(8) * (Vec3::splat(radius) + center.abs()),
+        LightShape::Parallelogram { corner, edges, .. } => {
+            gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs())
+        }
+        LightShape::Triangle { v, .. } => gamma(10) * (v[0].abs() + v[1].abs() + v[2].abs()),
+    }
 }
 
 /// Every sampled light, with the cumulative selection weights and the
@@ -313,6 +331,7 @@ impl LightList {
                 light: *l,
                 inv_area: l.shape.area().recip(),
                 power_share: p / total,
+                error: point_error(&l.shape),
             })
             .collect();
         let mut bounds: Vec<LightBounds> = lights
@@ -445,11 +464,10 @@ impl LightList {
         self.choose_shape(p, n, choice, last)
     }
 
-    /// Shape light number `i` and its 1 / area.
+    /// Shape light number `i` with what its sampling needs.
     #[inline]
-    pub fn shape(&self, i: usize) -> (&Light, f64) {
-        let p = &self.prepared[i];
-        (&p.light, p.inv_area)
+    pub(super) fn shape(&self, i: usize) -> &Prepared {
+        &self.prepared[i]
     }
 
     /// The shape light chosen by the uniform `u` from `p` (normal `n`) among
@@ -533,16 +551,16 @@ impl LightList {
         Vec2 { x: u1, y: u2 }: Vec2,
     ) -> Option<LightSample> {
         let Prepared {
-            light, inv_area, ..
+            light,
+            inv_area,
+            error,
+            ..
         } = &self.prepared[i];
         let select = select as f32;
-        // Each arm bounds the error of `x` from the light's world-space
-        // data, whose own rounding (the transform applied when the list was
-        // built) is of the same order as the geometry's.
         let (x, error, n, pdf) = match light.shape {
             LightShape::Sphere { center, radius } => {
                 let (x, pdf) = sample_sphere(center, radius, p, u1, u2)?;
-                let (x, error, n) = sphere_light_point(center, radius, x);
+                let (x, error, n) = sphere_light_point(center, radius, *error, x);
                 (x, error, n, pdf)
             }
             LightShape::Parallelogram {
@@ -551,24 +569,14 @@ impl LightList {
                 normal,
             } => {
                 let x = corner + u1 * edges.0 + u2 * edges.1;
-                let error = gamma(8) * (corner.abs() + edges.0.abs() + edges.1.abs());
-                (
-                    x,
-                    error,
-                    normal,
-                    area_to_solid_angle(*inv_area, p, x, normal)?,
-                )
+                let pdf = area_to_solid_angle(*inv_area, p, x, normal)?;
+                (x, *error, normal, pdf)
             }
             LightShape::Triangle { v, normal } => {
                 let s = u1.sqrt();
                 let x = (1.0 - s) * v[0] + s * (1.0 - u2) * v[1] + s * u2 * v[2];
-                let error = gamma(10) * (v[0].abs() + v[1].abs() + v[2].abs());
-                (
-                    x,
-                    error,
-                    normal,
-                    area_to_solid_angle(*inv_area, p, x, normal)?,
-                )
+                let pdf = area_to_solid_angle(*inv_area, p, x, normal)?;
+                (x, *error, normal, pdf)
             }
         };
         let to = x - p;
@@ -591,29 +599,11 @@ impl LightList {
         })
     }
 
-    /// The list's one light and its 1 / area, when it holds exactly one
-    /// and that one is a parallelogram: the light paths in lanes sample.
-    pub fn single_parallelogram(&self) -> Option<(&Light, f64)> {
+    /// The list's one light with what its sampling needs, when it holds
+    /// exactly one and no lamp.
+    pub(super) fn single(&self) -> Option<&Prepared> {
         match self.prepared.as_slice() {
-            [p] if self.lamps.is_empty()
-                && matches!(p.light.shape, LightShape::Parallelogram { .. }) =>
-            {
-                Some((&p.light, p.inv_area))
-            }
-            _ => None,
-        }
-    }
-
-    /// The list's one light, when it holds exactly one and that one is a
-    /// sphere: its centre, radius, radiance and sidedness.
-    pub fn single_sphere(&self) -> Option<(Vec3, f32, Vec3, bool)> {
-        match self.prepared.as_slice() {
-            [p] if self.lamps.is_empty() => match p.light.shape {
-                LightShape::Sphere { center, radius } => {
-                    Some((center, radius, p.light.emit, p.light.two_sided))
-                }
-                _ => None,
-            },
+            [p] if self.lamps.is_empty() => Some(p),
             _ => None,
         }
     }
@@ -790,13 +780,18 @@ pub(super) fn sample_cone(
 }
 
 /// A sampled point `x` of a sphere light reprojected onto the sphere, as
-/// a sphere hit is: the point, its error bound and its normal.
+/// a sphere hit is: the point, its error bound (the sphere's
+/// [`point_error`], `error`, and the reprojection's) and its normal.
 #[inline(always)]
-pub(super) fn sphere_light_point(center: Vec3, radius: f32, x: Vec3) -> (Vec3, Vec3, Vec3) {
+pub(super) fn sphere_light_point(
+    center: Vec3,
+    radius: f32,
+    error: Vec3,
+    x: Vec3,
+) -> (Vec3, Vec3, Vec3) {
     let n = (x - center).normalize_or(Vec3::Y);
     let x = center + n * radius;
-    let error = gamma(8) * (Vec3::splat(radius) + center.abs()) + gamma(2) * x.abs();
-    (x, error, n)
+    (x, error + gamma(2) * x.abs(), n)
 }
 
 /// The solid-angle density of [`sample_sphere`] for the point `x`.

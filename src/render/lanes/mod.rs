@@ -44,7 +44,9 @@ use crate::sampling::warp::cosine_hemisphere;
 use crate::sampling::Dim;
 use crate::scene::{Material, Texture, TextureId};
 use crate::simd::LANES;
-use lights::{flat_light, sample_in_lanes, sample_lights, scalar_light, BallLight, FlatLight};
+use lights::{
+    ball_light, flat_light, sample_in_lanes, sample_lights, scalar_light, BallLight, FlatLight,
+};
 
 type Lane<T> = [T; LANES];
 
@@ -79,10 +81,10 @@ enum Lighting<'a> {
     /// One parallelogram, sampled in every lane at once.
     Flat(FlatLight),
     /// One sphere, sampled in every lane at once from outside it (a lane
-    /// inside it samples the list as [`Lighting::Many`] does).
+    /// inside it by the scalar code).
     Ball(BallLight, &'a LightList),
-    /// Any number of shape lights, each lane choosing and sampling one as
-    /// [`LightList::sample`] does, with the block's draws.
+    /// Any number of shape lights, each lane choosing one as
+    /// [`LightList::sample`] does, with the block's draws ([`sample_lights`]).
     Many(&'a LightList),
 }
 
@@ -144,17 +146,10 @@ impl<'a> Lanes<'a> {
             return None;
         }
         let lighting = if tracer.light_sampling && !lights.is_empty() {
-            match (lights.single_parallelogram(), lights.single_sphere()) {
-                (Some((l, inv_area)), _) => Lighting::Flat(flat_light(l, inv_area)),
-                (None, Some((center, radius, emit, two_sided))) => {
-                    let ball = BallLight {
-                        center,
-                        radius,
-                        emit,
-                        two_sided,
-                    };
-                    Lighting::Ball(ball, lights)
-                }
+            let single = lights.single();
+            match (single.and_then(flat_light), single.and_then(ball_light)) {
+                (Some(light), _) => Lighting::Flat(light),
+                (None, Some(ball)) => Lighting::Ball(ball, lights),
                 (None, None) => Lighting::Many(lights),
             }
         } else {
@@ -250,10 +245,12 @@ impl<'a> Lanes<'a> {
             now = next;
             let u = Draws { light, bsdf };
             let roulette = roulette[0];
-            // Among many lights, the choice's draw (the light slot's 1-D
-            // draw, before the point's).
+            // Among several lights, the choice's draw (the light slot's 1-D
+            // draw, before the point's), which one light does not read.
             let choice = match self.lighting {
-                Lighting::Many(_) => points8_each(&index, &[broadcast(depth, Dim::Light, 0)])[0][0],
+                Lighting::Many(lights) if lights.single().is_none() => {
+                    points8_each(&index, &[broadcast(depth, Dim::Light, 0)])[0][0]
+                }
                 _ => [0.0; LANES],
             };
             // The BSDF's second draw, which only other surfaces read.
