@@ -4,7 +4,9 @@ its Mitsuba 3 twin, alternating in one run, two threads each. Prints per
 scene samples/s of both and their ratio, relMSE of each at equal spp
 against a Mitsuba reference, error × time against Mitsuba's best sampler,
 and whether the means agree (rtlang at --check-spp against the reference,
-within 1 % per channel); then the geometric means.
+within 1 % per channel); then the geometric means. `--suite FOLDER`
+measures another folder of scenes the same way (scenes kept outside the
+project, to see whether what holds on the suite holds beyond it).
 
 Needs `pip install mitsuba`, libLLVM >= 16 named by DRJIT_LIBLLVM_PATH and
 RTLANG_SHARED naming the shared assets (see benches/suite/README.md).
@@ -37,10 +39,10 @@ SAMPLERS = ("independent", "multijitter", "ldsampler", "orthogonal")
 RATE = re.compile(r"([\d.]+) M samples/s")
 
 
-def scene_modules(pattern):
-    """The suite's scene modules (those naming an .rt file), sorted, whose
-    name matches `pattern`."""
-    names = sorted(p.stem for p in SUITE.glob("*.py"))
+def scene_modules(folder, pattern):
+    """The scene modules in `folder` (those naming an .rt file), sorted,
+    whose name matches `pattern`."""
+    names = sorted(p.stem for p in folder.glob("*.py"))
     mods = [importlib.import_module(n) for n in names if re.search(pattern, n)]
     return [m for m in mods if hasattr(m, "RT") and hasattr(m, "scene")]
 
@@ -59,13 +61,19 @@ def rt_files(path):
     return files
 
 
+def rt_path(mod):
+    """The module's .rt file, which lies beside it."""
+    return pathlib.Path(mod.__file__).parent / mod.RT
+
+
 def content_key(mod, defines, size, spp):
     """A hash of everything a reference depends on: the scene files, the
     twin's module and the local modules it imports, the assets, size, spp."""
     h = hashlib.sha256(f"{size} {spp} {mi.__version__}".encode())
-    sources = [pathlib.Path(mod.__file__), SUITE / "common.py"] + rt_files(SUITE / mod.RT)
-    sources += [SUITE / f"{n}.py" for n in re.findall(r"^from (\w+) import", pathlib.Path(mod.__file__).read_text(), re.M)
-                if (SUITE / f"{n}.py").exists()]
+    sources = [pathlib.Path(mod.__file__), SUITE / "common.py"] + rt_files(rt_path(mod))
+    imported = re.findall(r"^from (\w+) import", pathlib.Path(mod.__file__).read_text(), re.M)
+    sources += [d / f"{n}.py" for n in imported for d in (pathlib.Path(mod.__file__).parent, SUITE)
+                if (d / f"{n}.py").exists()]
     for f in sorted(set(sources)):
         h.update(f.read_bytes())
     for k, v in sorted(defines.items()):
@@ -92,7 +100,7 @@ def mitsuba_render(scene, spp, seed):
 def rtlang_render(args, mod, defines, size, spp, seed, out):
     """(image, seconds) of one `rtlang render` on two threads, the render
     alone (rtlang prints the rate of its render, parse and build excluded)."""
-    cmd = [args.rtlang, "render", str(SUITE / mod.RT), "--width", str(size[0]), "--height", str(size[1]),
+    cmd = [args.rtlang, "render", str(rt_path(mod)), "--width", str(size[0]), "--height", str(size[1]),
            "--spp", str(spp), "--max-depth", str(mod.DEPTH), "--seed", str(seed), "--threads", str(args.threads),
            "--progress", "none", "-o", str(out)]
     for k, v in defines.items():
@@ -178,6 +186,9 @@ def main():
     ap.add_argument("--samplers", default=",".join(SAMPLERS),
                     help="Mitsuba's samplers to try; the first is the one the samples/s ratio uses")
     ap.add_argument("--scenes", default=".", help="a regular expression the scene names must match")
+    ap.add_argument("--suite", default=str(SUITE),
+                    help="the folder of scenes (each an .rt file and its twin module); the twins of another"
+                         " folder may import benches/suite's common and stage modules")
     ap.add_argument("--out", default=str(common.scratch()), help="images and cached references")
     args = ap.parse_args()
     args.out = pathlib.Path(args.out)
@@ -185,7 +196,10 @@ def main():
     args.samplers = args.samplers.split(",")
     dr.set_thread_count(args.threads)
 
-    mods = scene_modules(args.scenes)
+    folder = pathlib.Path(args.suite).resolve()
+    if folder != SUITE.resolve():
+        sys.path.insert(0, str(folder))
+    mods = scene_modules(folder, args.scenes)
     print(f"{len(mods)} scenes, longer side {args.size}, {args.spp} spp, {args.rounds} rounds, {args.threads} threads;"
           f" references {args.reference_spp} spp; mean check at {args.check_spp} spp")
     print("| scene | size | rtlang M samples/s | Mitsuba M samples/s | ratio (round min–max) | relMSE rtlang"
