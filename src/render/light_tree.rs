@@ -18,7 +18,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::light_lanes::{Mask4, F4};
+use super::light_lanes::{Wide, F4};
 
 /// What a light or a set of lights can emit, bounded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,43 +126,43 @@ impl Quad {
     /// bounding sphere's radius), times the best cosine any emitting normal
     /// can make with the direction to `p` and the best cosine at `p`'s
     /// surface. All emitters here are diffuse, so nothing is emitted beyond
-    /// 90° from a normal. All children are weighed at once in [`F4`]
-    /// lanes, whose square roots, divisions and comparisons round exactly
-    /// as scalar ones: every branch of the one-child formula is a lane mask
-    /// and a blend, and the special cases are chosen at the end.
+    /// 90° from a normal. All children are weighed at once in SIMD
+    /// lanes ([`Wide`]), whose square roots, divisions and comparisons
+    /// round exactly as scalar ones: every branch of the one-child formula
+    /// is a lane mask and a blend, and the special cases are chosen at the
+    /// end.
     #[inline(always)]
-    fn importance(&self, p: DVec3, n: DVec3) -> Lanes {
-        let splat = F4::splat;
-        let (zero, one) = (F4::ZERO, F4::ONE);
-        let r2 = F4(self.r2);
-        let to = xyz(|j| splat(p[j]) - F4(self.centre[j]));
+    fn importance<V: Wide>(&self, p: DVec3, n: DVec3) -> Lanes {
+        let splat = V::splat;
+        let (zero, one) = (splat(0.0), splat(1.0));
+        let r2 = V::new(self.r2);
+        let to = xyz(|j| splat(p[j]) - V::new(self.centre[j]));
         let dist2 = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
         let d2 = dist2.max(r2);
         let inv = one / dist2.sqrt();
         let away = dist2.gt(zero);
-        let wi = xyz(|j| away.blend(to[j] * inv, splat(DVec3::Z[j])));
+        let wi = xyz(|j| V::blend(away, to[j] * inv, splat(DVec3::Z[j])));
         // The angle the bounds subtend from p (everything if p is inside).
-        let sin = F4(self.r) * inv;
+        let sin = V::new(self.r) * inv;
         let inside = dist2.le(r2);
-        let sin_b = inside.blend(zero, sin);
-        let cos_b = inside.blend(-one, (one - sin * sin).max(zero).sqrt());
-        let dot = |v: [F4; 3]| v[0] * wi[0] + v[1] * wi[1] + v[2] * wi[2];
-        let c = dot(xyz(|j| F4(self.axis[j])));
-        let two_sided = Mask4::from_flags(self.two_sided);
-        let cos_w = two_sided.blend(c.abs(), c);
+        let sin_b = V::blend(inside, zero, sin);
+        let cos_b = V::blend(inside, -one, (one - sin * sin).max(zero).sqrt());
+        let dot = |v: [V; 3]| v[0] * wi[0] + v[1] * wi[1] + v[2] * wi[2];
+        let c = dot(xyz(|j| V::new(self.axis[j])));
+        let cos_w = V::blend(V::flags(self.two_sided), c.abs(), c);
         let sin_w = (one - cos_w * cos_w).max(zero).sqrt();
-        let spread = (F4(self.sin_spread), F4(self.cos_spread));
+        let spread = (V::new(self.sin_spread), V::new(self.cos_spread));
         let x = angle_minus((sin_w, cos_w), spread);
         let cos_p = angle_minus(x, (sin_b, cos_b)).1;
-        let mut importance = F4(self.power) * cos_p / d2;
+        let mut importance = V::new(self.power) * cos_p / d2;
         if n != DVec3::ZERO {
             let cos_i = dot(xyz(|j| splat(n[j]))).abs();
             let sin_i = (one - cos_i * cos_i).max(zero).sqrt();
-            importance *= angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
+            importance = importance * angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
         }
         let usable = d2.gt(zero) & d2.lt(splat(f64::INFINITY));
-        let weighed = cos_p.le(zero).blend(zero, importance.max(zero));
-        usable.blend(weighed, F4(self.power)).0
+        let weighed = V::blend(cos_p.le(zero), zero, importance.max(zero));
+        V::blend(usable, weighed, V::new(self.power)).lanes()
     }
 
     /// [`Quad::importance`] compiled for AVX.
@@ -172,26 +172,29 @@ impl Quad {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn importance_avx(&self, p: DVec3, n: DVec3) -> Lanes {
-        self.importance(p, n)
+        self.importance::<super::light_lanes::Avx4>(p, n)
     }
 }
 
 /// Per lane, (sin, cos) of max(0, a − b) for angles in [0, π] given as
 /// (sin, cos).
 #[inline(always)]
-fn angle_minus((sin_a, cos_a): (F4, F4), (sin_b, cos_b): (F4, F4)) -> (F4, F4) {
+fn angle_minus<V: Wide>((sin_a, cos_a): (V, V), (sin_b, cos_b): (V, V)) -> (V, V) {
     let none = cos_a.gt(cos_b);
     let sin = clamp_unit(sin_a * cos_b - cos_a * sin_b);
     let cos = clamp_unit(cos_a * cos_b + sin_a * sin_b);
-    (none.blend(F4::ZERO, sin), none.blend(F4::ONE, cos))
+    (
+        V::blend(none, V::splat(0.0), sin),
+        V::blend(none, V::splat(1.0), cos),
+    )
 }
 
 /// `f64::clamp(x, -1, 1)` per lane (a NaN stays NaN).
 #[inline(always)]
-fn clamp_unit(x: F4) -> F4 {
-    let one = F4::ONE;
-    let x = x.lt(-one).blend(-one, x);
-    x.gt(one).blend(one, x)
+fn clamp_unit<V: Wide>(x: V) -> V {
+    let one = V::splat(1.0);
+    let x = V::blend(x.lt(-one), -one, x);
+    V::blend(x.gt(one), one, x)
 }
 
 /// The smallest cone (axis, cos half angle) found by widening `a` to hold
@@ -244,10 +247,10 @@ impl Inner {
             // SAFETY: the CPU has AVX.
             unsafe { self.bounds.importance_avx(p, n) }
         } else {
-            self.bounds.importance(p, n)
+            self.bounds.importance::<F4>(p, n)
         };
         #[cfg(not(target_arch = "x86_64"))]
-        let w = self.bounds.importance(p, n);
+        let w = self.bounds.importance::<F4>(p, n);
         let sum: f64 = w.iter().sum();
         (sum > 0.0 && sum.is_finite()).then_some((w, sum))
     }
@@ -530,10 +533,10 @@ mod tests {
             (DVec3::new(0.5, -2.0, 0.5), DVec3::X),
         ] {
             for c in [a, b, facing_up] {
-                let alone = |x: LightBounds| Quad::of(&[x]).importance(p, n)[0].to_bits();
-                let got = Quad::of(&[c, b, a, c]).importance(p, n);
+                let alone = |x: LightBounds| Quad::of(&[x]).importance::<F4>(p, n)[0].to_bits();
+                let got = Quad::of(&[c, b, a, c]).importance::<F4>(p, n);
                 assert_eq!(got.map(f64::to_bits), [c, b, a, c].map(alone));
-                let got = Quad::of(&[b, c]).importance(p, n);
+                let got = Quad::of(&[b, c]).importance::<F4>(p, n);
                 assert_eq!(got.map(f64::to_bits), [alone(b), alone(c), 0, 0]);
             }
         }
@@ -655,7 +658,7 @@ mod tests {
                 0 => DVec3::ZERO,
                 _ => v(&mut r, 1.0).try_normalize().unwrap_or(DVec3::X),
             };
-            let (got, want) = (quad.importance(p, n), scalar_importance(&quad, p, n));
+            let (got, want) = (quad.importance::<F4>(p, n), scalar_importance(&quad, p, n));
             #[cfg(target_arch = "x86_64")]
             if crate::simd::avx() {
                 // SAFETY: the CPU has AVX.
