@@ -85,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 30] = [
+    let variants: [&[(&str, &str)]; 31] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -119,6 +119,12 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
             ("lens", "0.2"),
         ],
         &[("orb", "1"), ("critter", "true")],
+        &[
+            ("orb", "1"),
+            ("critter", "true"),
+            ("bare", "true"),
+            ("afloat", "true"),
+        ],
         &[("orb", "2")],
         &[("orb", "2"), ("critter", "true")],
         &[("glow", "true"), ("lift", "1e15")],

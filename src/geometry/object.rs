@@ -100,14 +100,7 @@ impl Geometry {
     ) -> Option<Hit> {
         match self {
             Geometry::Primitives(p) => p.intersect_facing(ray, t_min, t_max),
-            Geometry::Single(p, m, light) => {
-                let h = p.intersect(ray, t_min, t_max)?;
-                let mut hit = facing_flat(h, ray.dir, *m, *light);
-                if m.needs_tangents() {
-                    hit.tangents = p.tangents(&h);
-                }
-                Some(hit)
-            }
+            Geometry::Single(p, m, light) => single_hit(p, *m, *light, ray, t_min, t_max),
             Geometry::Mesh(mesh) => mesh.intersect_facing(ray, t_min, t_max),
             Geometry::Revolution { surface, material } => {
                 let s = surface.intersect(ray, t_min, t_max)?;
@@ -140,4 +133,23 @@ impl Geometry {
             }
         }
     }
+}
+
+/// The hit of a [`Geometry::Single`] primitive `p` with `t` in `(t_min,
+/// t_max)`, facing the ray, with the tangents when material `m` reads them.
+#[inline(always)]
+pub(super) fn single_hit(
+    p: &Primitive,
+    m: MaterialId,
+    light: LightId,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let h = p.intersect(ray, t_min, t_max)?;
+    let mut hit = facing_flat(h, ray.dir, m, light);
+    if m.needs_tangents() {
+        hit.tangents = p.tangents(&h);
+    }
+    Some(hit)
 }

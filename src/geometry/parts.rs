@@ -1,6 +1,7 @@
-//! A world of a few meshes and sets of primitives, none of them placed,
-//! moved, emitting through an offset or holding a medium, and nothing
-//! unbounded: a mesh on a floor under a lamp. [`Parts`] finds a ray's
+//! A world of a few meshes, sets of primitives and lone primitives, none
+//! of them placed, moved, emitting through an offset or holding a medium,
+//! and nothing unbounded: a mesh on a floor under a lamp, or beside one
+//! glowing ball. [`Parts`] finds a ray's
 //! nearest hit part by part, in the order and with the box tests of the
 //! world's group, which asks its instances in turn (so the answer is the
 //! group's, bit for bit), but without the layers the group's general
@@ -20,9 +21,11 @@ use super::emitter::LightId;
 use super::group::FEW_SURFACES;
 use super::instance::{Instance, Placement};
 use super::mesh::MeshGeometry;
-use super::object::Geometry;
+use super::object::{single_hit, Geometry};
+use super::primitive::Primitive;
 use super::primitives::PrimitiveSet;
 use super::{Aabb, Hit, Ray};
+use crate::scene::MaterialId;
 
 /// The parts of such a world, in the order its group asks them, each with
 /// its box.
@@ -35,6 +38,8 @@ pub struct Parts {
 enum Part<'a> {
     Set(&'a PrimitiveSet),
     Mesh(&'a MeshGeometry),
+    /// A primitive alone (a lamp beside a mesh), its material and light.
+    Single(&'a Primitive, MaterialId, LightId),
 }
 
 impl<'a> Part<'a> {
@@ -42,7 +47,8 @@ impl<'a> Part<'a> {
         match geometry {
             Geometry::Primitives(set) => Part::Set(set),
             Geometry::Mesh(mesh) => Part::Mesh(mesh),
-            _ => unreachable!("parts are meshes and sets of primitives"),
+            Geometry::Single(p, m, light) => Part::Single(p, *m, *light),
+            _ => unreachable!("parts are meshes, sets of primitives and lone primitives"),
         }
     }
 
@@ -51,6 +57,7 @@ impl<'a> Part<'a> {
         match self {
             Part::Set(set) => set.intersect_facing(ray, t_min, t_max),
             Part::Mesh(mesh) => mesh.intersect_facing(ray, t_min, t_max),
+            Part::Single(p, m, light) => single_hit(p, m, light, ray, t_min, t_max),
         }
     }
 
@@ -59,6 +66,7 @@ impl<'a> Part<'a> {
         match self {
             Part::Set(set) => set.occluded(ray, t_min, t_max),
             Part::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
+            Part::Single(p, _, _) => p.crossing(ray, t_min, t_max).is_some(),
         }
     }
 }
@@ -82,14 +90,14 @@ pub enum Nearest {
 
 impl Parts {
     /// The parts of the instances `bounded` (a group's, in the order it
-    /// asks them), or `None` unless each is a mesh or a set of
-    /// primitives, unplaced, with its emitters numbered as they are.
+    /// asks them), or `None` unless each is a mesh, a set of primitives or
+    /// a lone primitive, unplaced, with its emitters numbered as they are.
     pub(super) fn of(bounded: &[Instance]) -> Option<Parts> {
         let mut parts = ArrayVec::new();
         for inst in bounded {
             let part = matches!(
                 inst.geometry.as_ref(),
-                Geometry::Primitives(_) | Geometry::Mesh(_)
+                Geometry::Primitives(_) | Geometry::Mesh(_) | Geometry::Single(..)
             );
             let unplaced = matches!(inst.placement, Placement::Identity);
             if !part || !unplaced || inst.lights != LightId::BASE {
@@ -211,9 +219,9 @@ mod tests {
     }
 
     /// A mesh of random triangles over a floor and a lamp (two rects, a
-    /// set whose crossings can be handed in) and a set of a ball and a
-    /// wall: the parts find every ray's hit and occluder as the group's
-    /// general walk does, bit for bit, whether they ask each part or take
+    /// set whose crossings can be handed in), a set of a ball and a wall,
+    /// and a glowing ball alone: the parts find every ray's hit and
+    /// occluder as the group's general walk does, bit for bit, whether they ask each part or take
     /// the rects' crossing from the caller. Two of the triangles lie in
     /// the floor's plane, so some rays meet a triangle and the floor at one
     /// `t`: the part asked first keeps it, as in the group.
@@ -266,16 +274,21 @@ mod tests {
             ),
         ]);
         assert!(stage.side_by_side() && !others.side_by_side());
+        let lamp = Primitive::Sphere(Sphere {
+            center: Vec3::new(-1.2, 1.8, -0.8),
+            radius: 0.4,
+        });
         let group = Group::new(vec![
             placed(Geometry::Mesh(mesh)),
             placed(Geometry::Primitives(stage)),
             placed(Geometry::Primitives(others)),
+            placed(Geometry::Single(lamp, MaterialId(5), LightId::new(1))),
         ]);
         let parts = group.parts().expect("meshes and sets, unplaced");
         let view = parts.view();
         let flat = view.side_by_side().expect("the two rects");
         let mut media = MediumSegments::default();
-        let (mut hits, mut flat_hits, mut ties) = (0, 0, 0);
+        let (mut hits, mut flat_hits, mut ties, mut lamp_hits) = (0, 0, 0, 0);
         for k in 0..20_000 {
             let from = Vec3::new(r() * 8.0 - 4.0, r() * 4.0 - 0.5, r() * 8.0 - 4.0);
             let to = if k % 4 == 0 {
@@ -300,6 +313,7 @@ mod tests {
                 (Nearest::Hit(got), Some(h)) => {
                     assert_eq!(got, h);
                     ties += usize::from(flat_t == Some(h.t));
+                    lamp_hits += usize::from(h.material == MaterialId(5));
                     hits += 1;
                 }
                 (_, want) => panic!("ray {k}: the group finds {want:?}"),
@@ -311,8 +325,8 @@ mod tests {
             }
         }
         assert!(
-            hits > 3000 && flat_hits > 2000 && ties > 100,
-            "{hits} {flat_hits} {ties}"
+            hits > 3000 && flat_hits > 2000 && ties > 100 && lamp_hits > 200,
+            "{hits} {flat_hits} {ties} {lamp_hits}"
         );
     }
 }
