@@ -205,13 +205,15 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
     }
 }
 
-/// Gallery scenes: the Cornell box, and revolutions of metal beside
-/// lambertians (a world the lanes trace one ray at a time).
+/// Gallery scenes: the Cornell box, revolutions of metal beside
+/// lambertians (a world the lanes trace one ray at a time), and balls on
+/// an endless plane seen through a lens (a world of parts with a plane).
 #[test]
 fn gallery_scenes_are_traced_in_lanes_as_one_path_at_a_time() {
     for (file, width, height, spp) in [
         ("scenes/cornell.rt", 40, 40, 20),
         ("scenes/revolution.rt", 32, 24, 11),
+        ("scenes/dof.rt", 36, 24, 11),
     ] {
         let scene = load(file, &[]);
         let options = RenderOptions {

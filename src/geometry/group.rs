@@ -188,15 +188,15 @@ impl Group {
     }
 
     /// The group as [`Parts`] (a few surfaces side by side), when it is
-    /// one: no medium, nothing unbounded, and few enough surfaces to be
-    /// asked in turn.
+    /// one: no medium, nothing unbounded but planes, and few enough bounded
+    /// surfaces to be asked in turn.
     pub fn parts(&self) -> Option<Parts> {
         let s = &self.surfaces;
         let media = !matches!(&self.media, Media::Few(list) if list.is_empty());
-        if media || !s.unbounded.is_empty() || !s.few() {
+        if media || !s.few() {
             return None;
         }
-        Parts::of(&s.bounded)
+        Parts::of(&s.bounded, &s.unbounded)
     }
 
     /// Whether any instance is hit with `t` in `(t_min, t_max)`; the media's

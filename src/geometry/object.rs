@@ -21,6 +21,7 @@ use super::primitives::PrimitiveSet;
 use super::revolution::RevolutionSurface;
 use super::segments::MediumSegments;
 use super::shapes::{Plane, ShapeHit};
+use super::tangents::Tangents;
 use super::{Aabb, Hit, Ray};
 use crate::scene::MaterialId;
 
@@ -113,14 +114,7 @@ impl Geometry {
                 };
                 Some(facing_flat(h, ray.dir, *material, LightId::NONE))
             }
-            Geometry::Plane { plane, material } => {
-                let h = plane.intersect(ray, t_min, t_max)?;
-                let mut hit = facing_flat(h, ray.dir, *material, LightId::NONE);
-                if material.needs_tangents() {
-                    hit.tangents = super::tangents::plane(plane.normal);
-                }
-                Some(hit)
-            }
+            Geometry::Plane { plane, material } => plane_hit(plane, *material, ray, t_min, t_max),
             Geometry::Group(g) => g.intersect(ray, t_min, t_max, media),
             Geometry::Medium(m) => {
                 m.segments(ray, t_min, t_max, media);
@@ -135,8 +129,25 @@ impl Geometry {
     }
 }
 
+/// `h` facing the ray, with the tangents `tangents` gives when material
+/// `m` reads them.
+#[inline(always)]
+fn faced(
+    h: ShapeHit,
+    ray: &Ray,
+    m: MaterialId,
+    light: LightId,
+    tangents: impl FnOnce(&ShapeHit) -> Tangents,
+) -> Hit {
+    let mut hit = facing_flat(h, ray.dir, m, light);
+    if m.needs_tangents() {
+        hit.tangents = tangents(&h);
+    }
+    hit
+}
+
 /// The hit of a [`Geometry::Single`] primitive `p` with `t` in `(t_min,
-/// t_max)`, facing the ray, with the tangents when material `m` reads them.
+/// t_max)`, facing the ray.
 #[inline(always)]
 pub(super) fn single_hit(
     p: &Primitive,
@@ -147,9 +158,21 @@ pub(super) fn single_hit(
     t_max: f32,
 ) -> Option<Hit> {
     let h = p.intersect(ray, t_min, t_max)?;
-    let mut hit = facing_flat(h, ray.dir, m, light);
-    if m.needs_tangents() {
-        hit.tangents = p.tangents(&h);
-    }
-    Some(hit)
+    Some(faced(h, ray, m, light, |h| p.tangents(h)))
+}
+
+/// The hit of a [`Geometry::Plane`] with `t` in `(t_min, t_max)`, facing
+/// the ray.
+#[inline(always)]
+pub(super) fn plane_hit(
+    plane: &Plane,
+    m: MaterialId,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let h = plane.intersect(ray, t_min, t_max)?;
+    Some(faced(h, ray, m, LightId::NONE, |_| {
+        super::tangents::plane(plane.normal)
+    }))
 }

@@ -1,7 +1,7 @@
-//! A world of a few meshes, sets of primitives and lone primitives, none
-//! of them placed, moved, emitting through an offset or holding a medium,
-//! and nothing unbounded: a mesh on a floor under a lamp, or beside one
-//! glowing ball. [`Parts`] finds a ray's
+//! A world of a few meshes, sets of primitives and lone primitives, and
+//! of planes, none of them placed, moved, emitting through an offset or
+//! holding a medium: a mesh on a floor under a lamp, beside one glowing
+//! ball, or on an endless plane. [`Parts`] finds a ray's
 //! nearest hit part by part, in the order and with the box tests of the
 //! world's group, which asks its instances in turn (so the answer is the
 //! group's, bit for bit), but without the layers the group's general
@@ -21,16 +21,17 @@ use super::emitter::LightId;
 use super::group::FEW_SURFACES;
 use super::instance::{Instance, Placement};
 use super::mesh::MeshGeometry;
-use super::object::{single_hit, Geometry};
+use super::object::{plane_hit, single_hit, Geometry};
 use super::primitive::Primitive;
 use super::primitives::PrimitiveSet;
 use super::{Aabb, Hit, Ray};
 use crate::scene::MaterialId;
 
-/// The parts of such a world, in the order its group asks them, each with
-/// its box.
+/// The parts of such a world, in the order its group asks them: the
+/// bounded ones, each with its box, then the planes.
 pub struct Parts {
     parts: ArrayVec<(Aabb, Arc<Geometry>), FEW_SURFACES>,
+    planes: Vec<Arc<Geometry>>,
 }
 
 /// One part, as a [`View`] holds it.
@@ -75,6 +76,7 @@ impl<'a> Part<'a> {
 /// set whose crossings the caller finds.
 pub struct View<'a> {
     parts: ArrayVec<(Aabb, Part<'a>), FEW_SURFACES>,
+    planes: &'a [Arc<Geometry>],
     side_by_side: Option<(usize, &'a PrimitiveSet)>,
 }
 
@@ -89,23 +91,33 @@ pub enum Nearest {
 }
 
 impl Parts {
-    /// The parts of the instances `bounded` (a group's, in the order it
-    /// asks them), or `None` unless each is a mesh, a set of primitives or
-    /// a lone primitive, unplaced, with its emitters numbered as they are.
-    pub(super) fn of(bounded: &[Instance]) -> Option<Parts> {
+    /// The parts of the instances `bounded` and `unbounded` (a group's, in
+    /// the order it asks them), or `None` unless each bounded one is a
+    /// mesh, a set of primitives or a lone primitive and each unbounded one
+    /// a plane, all unplaced, with their emitters numbered as they are.
+    pub(super) fn of(bounded: &[Instance], unbounded: &[Instance]) -> Option<Parts> {
+        let usable = |inst: &Instance| {
+            matches!(inst.placement, Placement::Identity) && inst.lights == LightId::BASE
+        };
         let mut parts = ArrayVec::new();
         for inst in bounded {
             let part = matches!(
                 inst.geometry.as_ref(),
                 Geometry::Primitives(_) | Geometry::Mesh(_) | Geometry::Single(..)
             );
-            let unplaced = matches!(inst.placement, Placement::Identity);
-            if !part || !unplaced || inst.lights != LightId::BASE {
+            if !part || !usable(inst) {
                 return None;
             }
             parts.try_push((inst.bounds, inst.geometry.clone())).ok()?;
         }
-        Some(Parts { parts })
+        let mut planes = Vec::with_capacity(unbounded.len());
+        for inst in unbounded {
+            if !matches!(inst.geometry.as_ref(), Geometry::Plane { .. }) || !usable(inst) {
+                return None;
+            }
+            planes.push(inst.geometry.clone());
+        }
+        Some(Parts { parts, planes })
     }
 
     /// The nearest hit with `t` in `(t_min, t_max)`, as the world's group
@@ -121,7 +133,7 @@ impl Parts {
                 }
             }
         }
-        found
+        plane_hits(&self.planes, ray, t_min, t_max).or(found)
     }
 
     /// Whether a part is hit with `t` in `(t_min, t_max)`, as the world's
@@ -132,7 +144,7 @@ impl Parts {
         self.parts.iter().any(|(bounds, geometry)| {
             bounds.entered(ray.origin, inv_dir, t_max)
                 && Part::of(geometry).occluded(ray, t_min, t_max)
-        })
+        }) || planes_occlude(&self.planes, ray, t_min, t_max)
     }
 
     /// The parts as the lanes ask them.
@@ -151,6 +163,7 @@ impl Parts {
             });
         View {
             parts,
+            planes: &self.planes,
             side_by_side,
         }
     }
@@ -187,7 +200,7 @@ impl<'a> View<'a> {
                 (t_max, found) = (h.t, Nearest::Hit(h));
             }
         }
-        found
+        plane_hits(self.planes, ray, 0.0, t_max).map_or(found, Nearest::Hit)
     }
 
     /// Whether a part is hit with `t` in `(t_min, t_max)`, as the world's
@@ -197,8 +210,32 @@ impl<'a> View<'a> {
         let inv_dir = ray.dir.recip();
         self.parts.iter().any(|(bounds, part)| {
             bounds.entered(ray.origin, inv_dir, t_max) && part.occluded(ray, t_min, t_max)
-        })
+        }) || planes_occlude(self.planes, ray, t_min, t_max)
     }
+}
+
+/// The nearest hit on `planes` with `t` in `(t_min, t_max)`, asked in turn
+/// as the group asks its unbounded instances after the bounded ones.
+#[inline(always)]
+fn plane_hits(planes: &[Arc<Geometry>], ray: &Ray, t_min: f32, mut t_max: f32) -> Option<Hit> {
+    let mut found = None;
+    for geometry in planes {
+        if let Geometry::Plane { plane, material } = geometry.as_ref() {
+            if let Some(h) = plane_hit(plane, *material, ray, t_min, t_max) {
+                (t_max, found) = (h.t, Some(h));
+            }
+        }
+    }
+    found
+}
+
+/// Whether one of `planes` is hit with `t` in `(t_min, t_max)`.
+#[inline(always)]
+fn planes_occlude(planes: &[Arc<Geometry>], ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    planes.iter().any(|geometry| match geometry.as_ref() {
+        Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
+        _ => false,
+    })
 }
 
 #[cfg(test)]
@@ -209,7 +246,7 @@ mod tests {
     use crate::geometry::group::Group;
     use crate::geometry::primitive::Primitive;
     use crate::geometry::segments::MediumSegments;
-    use crate::geometry::shapes::{Rect, Sphere};
+    use crate::geometry::shapes::{Plane, Rect, Sphere};
     use crate::sampling::rng::numbers;
     use crate::scene::object::RectPlane;
     use crate::scene::{MaterialId, MeshData};
@@ -220,7 +257,8 @@ mod tests {
 
     /// A mesh of random triangles over a floor and a lamp (two rects, a
     /// set whose crossings can be handed in), a set of a ball and a wall,
-    /// and a glowing ball alone: the parts find every ray's hit and
+    /// a glowing ball alone and an endless plane across the back, slanted
+    /// through the wall: the parts find every ray's hit and
     /// occluder as the group's general walk does, bit for bit, whether they ask each part or take
     /// the rects' crossing from the caller. Two of the triangles lie in
     /// the floor's plane, so some rays meet a triangle and the floor at one
@@ -283,12 +321,19 @@ mod tests {
             placed(Geometry::Primitives(stage)),
             placed(Geometry::Primitives(others)),
             placed(Geometry::Single(lamp, MaterialId(5), LightId::new(1))),
+            placed(Geometry::Plane {
+                plane: Plane {
+                    point: Vec3::new(0.0, 0.0, -2.0),
+                    normal: Vec3::new(0.3, 0.0, 1.0).normalize(),
+                },
+                material: MaterialId(6),
+            }),
         ]);
         let parts = group.parts().expect("meshes and sets, unplaced");
         let view = parts.view();
         let flat = view.side_by_side().expect("the two rects");
         let mut media = MediumSegments::default();
-        let (mut hits, mut flat_hits, mut ties, mut lamp_hits) = (0, 0, 0, 0);
+        let (mut hits, mut flat_hits, mut ties, mut lamp_hits, mut plane_hits) = (0, 0, 0, 0, 0);
         for k in 0..20_000 {
             let from = Vec3::new(r() * 8.0 - 4.0, r() * 4.0 - 0.5, r() * 8.0 - 4.0);
             let to = if k % 4 == 0 {
@@ -314,6 +359,7 @@ mod tests {
                     assert_eq!(got, h);
                     ties += usize::from(flat_t == Some(h.t));
                     lamp_hits += usize::from(h.material == MaterialId(5));
+                    plane_hits += usize::from(h.material == MaterialId(6));
                     hits += 1;
                 }
                 (_, want) => panic!("ray {k}: the group finds {want:?}"),
@@ -325,8 +371,8 @@ mod tests {
             }
         }
         assert!(
-            hits > 3000 && flat_hits > 2000 && ties > 100 && lamp_hits > 200,
-            "{hits} {flat_hits} {ties} {lamp_hits}"
+            hits > 3000 && flat_hits > 2000 && ties > 100 && lamp_hits > 200 && plane_hits > 200,
+            "{hits} {flat_hits} {ties} {lamp_hits} {plane_hits}"
         );
     }
 }
