@@ -81,6 +81,23 @@ pub fn facing_flat(h: ShapeHit, dir: Vec3, material: MaterialId, light: LightId)
     }
 }
 
+/// [`facing_flat`] with the tangents `tangents` gives when `material`
+/// reads them (a primitive's or a plane's, built only then).
+#[inline(always)]
+pub fn facing_flat_with(
+    h: ShapeHit,
+    dir: Vec3,
+    material: MaterialId,
+    light: LightId,
+    tangents: impl FnOnce(&ShapeHit) -> Tangents,
+) -> Hit {
+    let mut hit = facing_flat(h, dir, material, light);
+    if material.needs_tangents() {
+        hit.tangents = tangents(&h);
+    }
+    hit
+}
+
 /// Turns an outward-normal hit into a [`Hit`] whose normals face the ray:
 /// [`facing_flat`]'s, with the shading normal `shading` turned the same
 /// way, unless that points into the surface.

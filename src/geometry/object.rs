@@ -13,7 +13,7 @@ use glam::Vec3;
 
 use super::emitter::LightId;
 use super::group::Group;
-use super::hit::facing_flat;
+use super::hit::{facing_flat, facing_flat_with};
 use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::primitive::Primitive;
@@ -21,7 +21,6 @@ use super::primitives::PrimitiveSet;
 use super::revolution::RevolutionSurface;
 use super::segments::MediumSegments;
 use super::shapes::{Plane, ShapeHit};
-use super::tangents::Tangents;
 use super::{Aabb, Hit, Ray};
 use crate::scene::MaterialId;
 
@@ -129,23 +128,6 @@ impl Geometry {
     }
 }
 
-/// `h` facing the ray, with the tangents `tangents` gives when material
-/// `m` reads them.
-#[inline(always)]
-fn faced(
-    h: ShapeHit,
-    ray: &Ray,
-    m: MaterialId,
-    light: LightId,
-    tangents: impl FnOnce(&ShapeHit) -> Tangents,
-) -> Hit {
-    let mut hit = facing_flat(h, ray.dir, m, light);
-    if m.needs_tangents() {
-        hit.tangents = tangents(&h);
-    }
-    hit
-}
-
 /// The hit of a [`Geometry::Single`] primitive `p` with `t` in `(t_min,
 /// t_max)`, facing the ray.
 #[inline(always)]
@@ -158,7 +140,7 @@ pub(super) fn single_hit(
     t_max: f32,
 ) -> Option<Hit> {
     let h = p.intersect(ray, t_min, t_max)?;
-    Some(faced(h, ray, m, light, |h| p.tangents(h)))
+    Some(facing_flat_with(h, ray.dir, m, light, |h| p.tangents(h)))
 }
 
 /// The hit of a [`Geometry::Plane`] with `t` in `(t_min, t_max)`, facing
@@ -172,7 +154,6 @@ pub(super) fn plane_hit(
     t_max: f32,
 ) -> Option<Hit> {
     let h = plane.intersect(ray, t_min, t_max)?;
-    Some(faced(h, ray, m, LightId::NONE, |_| {
-        super::tangents::plane(plane.normal)
-    }))
+    let tangents = |_: &ShapeHit| super::tangents::plane(plane.normal);
+    Some(facing_flat_with(h, ray.dir, m, LightId::NONE, tangents))
 }

@@ -24,14 +24,15 @@ use super::mesh::MeshGeometry;
 use super::object::{plane_hit, single_hit, Geometry};
 use super::primitive::Primitive;
 use super::primitives::PrimitiveSet;
+use super::shapes::Plane;
 use super::{Aabb, Hit, Ray};
 use crate::scene::MaterialId;
 
 /// The parts of such a world, in the order its group asks them: the
-/// bounded ones, each with its box, then the planes.
+/// bounded ones, each with its box, then the planes with their materials.
 pub struct Parts {
     parts: ArrayVec<(Aabb, Arc<Geometry>), FEW_SURFACES>,
-    planes: Vec<Arc<Geometry>>,
+    planes: Vec<(Plane, MaterialId)>,
 }
 
 /// One part, as a [`View`] holds it.
@@ -76,7 +77,7 @@ impl<'a> Part<'a> {
 /// set whose crossings the caller finds.
 pub struct View<'a> {
     parts: ArrayVec<(Aabb, Part<'a>), FEW_SURFACES>,
-    planes: &'a [Arc<Geometry>],
+    planes: &'a [(Plane, MaterialId)],
     side_by_side: Option<(usize, &'a PrimitiveSet)>,
 }
 
@@ -112,10 +113,13 @@ impl Parts {
         }
         let mut planes = Vec::with_capacity(unbounded.len());
         for inst in unbounded {
-            if !matches!(inst.geometry.as_ref(), Geometry::Plane { .. }) || !usable(inst) {
+            let Geometry::Plane { plane, material } = *inst.geometry else {
+                return None;
+            };
+            if !usable(inst) {
                 return None;
             }
-            planes.push(inst.geometry.clone());
+            planes.push((plane, material));
         }
         Some(Parts { parts, planes })
     }
@@ -217,13 +221,16 @@ impl<'a> View<'a> {
 /// The nearest hit on `planes` with `t` in `(t_min, t_max)`, asked in turn
 /// as the group asks its unbounded instances after the bounded ones.
 #[inline(always)]
-fn plane_hits(planes: &[Arc<Geometry>], ray: &Ray, t_min: f32, mut t_max: f32) -> Option<Hit> {
+fn plane_hits(
+    planes: &[(Plane, MaterialId)],
+    ray: &Ray,
+    t_min: f32,
+    mut t_max: f32,
+) -> Option<Hit> {
     let mut found = None;
-    for geometry in planes {
-        if let Geometry::Plane { plane, material } = geometry.as_ref() {
-            if let Some(h) = plane_hit(plane, *material, ray, t_min, t_max) {
-                (t_max, found) = (h.t, Some(h));
-            }
+    for (plane, material) in planes {
+        if let Some(h) = plane_hit(plane, *material, ray, t_min, t_max) {
+            (t_max, found) = (h.t, Some(h));
         }
     }
     found
@@ -231,11 +238,10 @@ fn plane_hits(planes: &[Arc<Geometry>], ray: &Ray, t_min: f32, mut t_max: f32) -
 
 /// Whether one of `planes` is hit with `t` in `(t_min, t_max)`.
 #[inline(always)]
-fn planes_occlude(planes: &[Arc<Geometry>], ray: &Ray, t_min: f32, t_max: f32) -> bool {
-    planes.iter().any(|geometry| match geometry.as_ref() {
-        Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
-        _ => false,
-    })
+fn planes_occlude(planes: &[(Plane, MaterialId)], ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    planes
+        .iter()
+        .any(|(plane, _)| plane.intersect(ray, t_min, t_max).is_some())
 }
 
 #[cfg(test)]
@@ -246,7 +252,7 @@ mod tests {
     use crate::geometry::group::Group;
     use crate::geometry::primitive::Primitive;
     use crate::geometry::segments::MediumSegments;
-    use crate::geometry::shapes::{Plane, Rect, Sphere};
+    use crate::geometry::shapes::{Rect, Sphere};
     use crate::sampling::rng::numbers;
     use crate::scene::object::RectPlane;
     use crate::scene::{MaterialId, MeshData};

@@ -8,7 +8,7 @@
 use super::bvh::{bits, Leaves};
 use super::emitter::LightId;
 use super::flat::{FlatFaces, Hits8, Nearest8};
-use super::hit::facing_flat;
+use super::hit::facing_flat_with;
 use super::leaf::{slots, Packs, SphereLeaf};
 use super::primitive::Primitive;
 use super::shapes::{Crossing, ShapeHit, Sphere};
@@ -195,8 +195,7 @@ impl PrimitiveSet {
         Some(self.faced(slot, h, ray.dir, material, light))
     }
 
-    /// [`facing_flat`] with the tangents of slot `slot`'s primitive when
-    /// the material reads them.
+    /// [`facing_flat_with`] the tangents of slot `slot`'s primitive.
     #[inline(always)]
     fn faced(
         &self,
@@ -206,11 +205,7 @@ impl PrimitiveSet {
         material: MaterialId,
         light: LightId,
     ) -> Hit {
-        let mut hit = facing_flat(h, dir, material, light);
-        if material.needs_tangents() {
-            hit.tangents = self.prims[slot].tangents(&h);
-        }
-        hit
+        facing_flat_with(h, dir, material, light, |h| self.prims[slot].tangents(h))
     }
 
     /// The nearest hits in `(t_min, ∞)` of up to [`LANES`] rays that cross

@@ -455,7 +455,7 @@ impl LightList {
     /// The light [`LightList::sample_drawn`] chooses with the draw
     /// `choice` (unread when there is one): its number and probability.
     #[inline]
-    pub fn choose_drawn(&self, p: Vec3, n: Vec3, choice: f32) -> Option<(usize, f64)> {
+    pub(super) fn choose_drawn(&self, p: Vec3, n: Vec3, choice: f32) -> Option<(usize, f64)> {
         debug_assert!(self.lamps.is_empty(), "a list of shapes");
         let last = self.prepared.len().checked_sub(1)?;
         if last == 0 {
@@ -543,7 +543,7 @@ impl LightList {
     /// A point of shape light `i`, chosen with probability `select`, seen
     /// from `p`.
     #[inline(always)]
-    pub fn sample_shape(
+    pub(super) fn sample_shape(
         &self,
         i: usize,
         select: f64,
