@@ -7,6 +7,7 @@
 use std::fmt::Write;
 
 use super::ast::*;
+use super::names::is_keyword;
 
 /// The canonical source of a file.
 pub fn file(file: &File) -> String {
@@ -305,12 +306,17 @@ impl Printer<'_> {
 
     /// An expression that follows another one directly, or sits where only
     /// a primary may: parenthesised unless it is a single token, so a
-    /// leading `-` cannot join the previous one.
+    /// leading `-` cannot join the previous one, and a keyword read as a
+    /// name (an error later, as `mesh medium`) cannot join the block after
+    /// it into an object (`mesh medium {}` is the mesh of a medium).
     fn atom(&mut self, e: &Expr) {
-        if matches!(
-            e.kind,
-            ExprKind::Neg(_) | ExprKind::Not(_) | ExprKind::Binary(..) | ExprKind::If(..)
-        ) {
+        let keyword = matches!(&e.kind, ExprKind::Name(n) if is_keyword(n));
+        if keyword
+            || matches!(
+                e.kind,
+                ExprKind::Neg(_) | ExprKind::Not(_) | ExprKind::Binary(..) | ExprKind::If(..)
+            )
+        {
             self.out.push('(');
             self.expr(e, 0);
             self.out.push(')');
