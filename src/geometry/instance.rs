@@ -203,13 +203,10 @@ impl Instance {
         media: &mut MediumSegments,
     ) -> Option<Hit> {
         let local = Ray::new(ray.origin - v, ray.dir, ray.time);
-        let mut h = self
+        let h = self
             .geometry
             .intersect_in_media(&local, t_min, t_max, media)?;
-        // One rounding of the sum: |fl(p + v) − (p + v)| ≤ γ₁·|fl(p + v)|.
-        h.point += v;
-        h.error += gamma(1) * h.point.abs();
-        Some(h)
+        Some(shifted_hit(h, v))
     }
 
     #[inline]
@@ -232,6 +229,16 @@ impl Instance {
         }
         Some(h)
     }
+}
+
+/// A hit found on geometry moved by `v`, with its ray's origin less `v`,
+/// as a hit of the moved geometry.
+#[inline(always)]
+pub(super) fn shifted_hit(mut h: Hit, v: Vec3) -> Hit {
+    // One rounding of the sum: |fl(p + v) − (p + v)| ≤ γ₁·|fl(p + v)|.
+    h.point += v;
+    h.error += gamma(1) * h.point.abs();
+    h
 }
 
 #[cfg(test)]

@@ -103,15 +103,7 @@ impl Geometry {
             Geometry::Single(p, m, light) => single_hit(p, *m, *light, ray, t_min, t_max),
             Geometry::Mesh(mesh) => mesh.intersect_facing(ray, t_min, t_max),
             Geometry::Revolution { surface, material } => {
-                let s = surface.intersect(ray, t_min, t_max)?;
-                let h = ShapeHit {
-                    t: s.t,
-                    point: s.point,
-                    error: s.error,
-                    normal: s.normal,
-                    uv: s.uv.into(),
-                };
-                Some(facing_flat(h, ray.dir, *material, LightId::NONE))
+                revolution_hit(surface, *material, ray, t_min, t_max)
             }
             Geometry::Plane { plane, material } => plane_hit(plane, *material, ray, t_min, t_max),
             Geometry::Group(g) => g.intersect(ray, t_min, t_max, media),
@@ -141,6 +133,27 @@ pub(super) fn single_hit(
 ) -> Option<Hit> {
     let h = p.intersect(ray, t_min, t_max)?;
     Some(facing_flat_with(h, ray.dir, m, light, |h| p.tangents(h)))
+}
+
+/// The hit of a [`Geometry::Revolution`] with `t` in `(t_min, t_max)`,
+/// facing the ray.
+#[inline(always)]
+pub(super) fn revolution_hit(
+    surface: &RevolutionSurface,
+    m: MaterialId,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let s = surface.intersect(ray, t_min, t_max)?;
+    let h = ShapeHit {
+        t: s.t,
+        point: s.point,
+        error: s.error,
+        normal: s.normal,
+        uv: s.uv.into(),
+    };
+    Some(facing_flat(h, ray.dir, m, LightId::NONE))
 }
 
 /// The hit of a [`Geometry::Plane`] with `t` in `(t_min, t_max)`, facing
