@@ -85,7 +85,7 @@ fn assert_same(what: &str, scene: &Scene, options: &RenderOptions) {
 
 #[test]
 fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
-    let variants: [&[(&str, &str)]; 31] = [
+    let variants: [&[(&str, &str)]; 34] = [
         &[],
         &[("ball", "true")],
         &[("textured", "true")],
@@ -132,26 +132,36 @@ fn lanes_give_the_scalar_integrators_image_bit_for_bit() {
         &[("glow", "true"), ("spark", "true"), ("orb", "1")],
         &[("shiny", "true"), ("ball", "true")],
         &[("shiny", "true"), ("orb", "1")],
+        &[("marbles", "true")],
+        &[("shiny", "true"), ("marbles", "true")],
+        &[("shiny", "true"), ("marbles", "true"), ("orb", "1")],
     ];
     for defines in variants {
         let scene = load("tests/scenes/lanes.rt", defines);
         // Every way of tracing the lanes' rays: crossings first in a world
-        // of flat faces only; a mesh beside faces whose crossings are found
-        // first (many faces, or a few rects) or asked one lane at a time (a
-        // ball among them); whole hits one lane at a time otherwise.
+        // of flat faces only; a mesh or balls beside faces whose crossings
+        // are found first (many faces, or a few rects), the balls apart
+        // from the faces; whole hits one lane at a time otherwise, a set
+        // of balls (and faces fewer than they are) walked in packets.
         let world = World::build(&scene).expect("builds");
         let has = |k| defines.contains(&(k, "true"));
         let orb = defines.iter().any(|&(k, v)| k == "orb" && v != "0");
-        let round = has("ball") || has("glow") || orb;
+        let round = has("ball") || has("glow") || orb || has("marbles");
+        let faces = !(has("afloat") && has("bare") && orb);
+        // Bare, the faces are few (the floor, the lamp, the glow's rect):
+        // side by side only as rects, which a tilted lamp is not.
+        let tilted = !orb && !defines.contains(&("tilt", "0"));
+        let faces_side_by_side = !(has("bare") && tilted);
+        let apart = round && faces && faces_side_by_side && !has("marbles");
         let flat = !round && !has("critter");
         assert_eq!(world.flat_set().is_some(), flat, "{defines:?}");
         let parts = world.parts();
-        assert_eq!(parts.is_some(), has("critter"), "{defines:?}");
+        assert_eq!(parts.is_some(), has("critter") || apart, "{defines:?}");
         let side_by_side = parts.and_then(|p| p.view().side_by_side()).is_some();
-        assert_eq!(side_by_side, has("critter") && !round, "{defines:?}");
-        // Balls without a mesh: one set whose rays walk it in packets.
+        let beside_mesh = has("critter") && !round && faces_side_by_side;
+        assert_eq!(side_by_side, beside_mesh || apart, "{defines:?}");
         let packets = world.packet_set().is_some();
-        assert_eq!(packets, round && !has("critter"), "{defines:?}");
+        assert_eq!(packets, round && !has("critter") && !apart, "{defines:?}");
         let base = RenderOptions::from_settings(&scene.settings);
         // 13 samples end inside a block; a second pass starts inside one.
         let cases = [
@@ -230,12 +240,12 @@ fn gallery_scenes_are_traced_in_lanes_as_one_path_at_a_time() {
 fn scenes_the_lanes_do_not_trace_take_the_scalar_integrator() {
     // A medium; metal and glass in a world whose rays walk it in packets
     // with no light to sample (the book-1 spheres under their sky, and the
-    // lanes' room with a ball and light sampling off) or with several (the
-    // room with a glowing ball and a second lamp); a sun (a light that is
-    // not a shape) over the lanes' own room.
+    // lanes' room with its marbles and light sampling off) or with several
+    // (the room with marbles, a glowing ball and a second lamp); a sun (a
+    // light that is not a shape) over the lanes' own room.
     let sunlit: &[(&str, &str)] = &[("sunlit", "true")];
-    let shiny_ball: &[(&str, &str)] = &[("shiny", "true"), ("ball", "true")];
-    let shiny_glow: &[(&str, &str)] = &[("shiny", "true"), ("glow", "true")];
+    let shiny_ball: &[(&str, &str)] = &[("shiny", "true"), ("marbles", "true")];
+    let shiny_glow: &[(&str, &str)] = &[("shiny", "true"), ("glow", "true"), ("marbles", "true")];
     for (file, nee, defines) in [
         ("scenes/cornell_smoke.rt", true, &[][..]),
         ("scenes/spheres.rt", false, &[]),

@@ -33,7 +33,7 @@ use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
 use super::parts::Parts;
-use super::primitives::PrimitiveSet;
+use super::primitives::{faces_apart, PrimitiveSet};
 use super::revolution::{tessellate, RevolutionSurface};
 use super::segments::MediumSegments;
 use super::shapes::Plane;
@@ -353,12 +353,16 @@ impl Builder<'_> {
         for node in nodes {
             self.collect(node, at, &mut prims, &mut items)?;
         }
-        let geometry = match &prims[..] {
-            [] => None,
-            [(p, m, light)] => Some(Geometry::Single(*p, *m, *light)),
-            _ => Some(Geometry::Primitives(PrimitiveSet::new(prims))),
+        let sets = match faces_apart(&prims) {
+            Some((faces, rest)) => vec![faces, rest],
+            None => vec![prims],
         };
-        if let Some(geometry) = geometry {
+        for prims in sets {
+            let geometry = match &prims[..] {
+                [] => continue,
+                [(p, m, light)] => Geometry::Single(*p, *m, *light),
+                _ => Geometry::Primitives(PrimitiveSet::new(prims)),
+            };
             items.push(self.placed(geometry, Placement::Identity));
         }
         if items.len() == 1 {
