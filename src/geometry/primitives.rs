@@ -446,9 +446,24 @@ impl PrimitiveSet {
         if let Some(flat) = &self.flat {
             return flat.occluded(ray, t_min, t_max);
         }
-        self.bvh.traverse_any(ray, t_max, |slot, t_max| {
-            self.prims[slot].crossing(ray, t_min, t_max).is_some()
-        })
+        // Spheres a packed leaf at a time, as `intersect_slot` tests them.
+        self.bvh.traverse_any_leaves(
+            ray,
+            t_max,
+            #[inline(always)]
+            |first, count, t_max| {
+                let Some(leaf) = self.spheres.get(first) else {
+                    return (first..first + count)
+                        .any(|slot| self.prims[slot].crossing(ray, t_min, t_max).is_some());
+                };
+                let lanes = leaf.candidates(ray);
+                if lanes == 0 {
+                    return false;
+                }
+                let roots = leaf.roots(ray);
+                bits(lanes).any(|lane| roots[lane].and_then(|r| r.crossing(t_min, t_max)).is_some())
+            },
+        )
     }
 
     /// Whether the set holds no primitive.
@@ -479,7 +494,8 @@ mod tests {
 
     /// A packet's hits are each ray's least (t, slot) crossing, the same
     /// traced alone or beside any other rays, and the one-ray walk's hit
-    /// where no two surfaces meet the ray at one `t`. The set holds random
+    /// where no two surfaces meet the ray at one `t`; a shadow ray is
+    /// blocked exactly where one of the primitives crosses it. The set holds random
     /// spheres (some twice, at one place, with other materials: ties),
     /// triangles among them, and a ground sphere far larger than the rest.
     #[test]
@@ -514,7 +530,7 @@ mod tests {
         }
         let set = PrimitiveSet::new(items);
         assert!(!set.is_flat());
-        let (mut ties, mut hits) = (0, 0);
+        let (mut ties, mut hits, mut shadowed) = (0, 0, 0);
         for p in 0..400 {
             let n = 1 + p % LANES;
             let from = Vec3::new(r() * 30.0 - 15.0, 0.5 + r() * 4.0, r() * 30.0 - 15.0);
@@ -552,9 +568,20 @@ mod tests {
                     assert_eq!(bits(&packet[k]), bits(&one), "packet {p}, ray {k}");
                 }
                 hits += usize::from(packet[k].is_some());
+                // A shadow ray ending just before, at or after the hit, or
+                // anywhere: blocked as the primitives one by one say (the
+                // spheres' packed leaves tested four at once).
+                let t = least.map_or(5.0, |(t, _)| t);
+                for end in [t * 0.999, t, t * 1.001, 30.0 * r()] {
+                    let blocked = (0..set.prims.len())
+                        .any(|s| set.prims[s].crossing(ray, 0.0, end).is_some());
+                    assert_eq!(set.occluded(ray, 0.0, end), blocked, "{ray:?} to {end}");
+                    shadowed += usize::from(blocked);
+                }
             }
         }
         assert!(ties > 20 && hits > 1000, "{ties} ties, {hits} hits");
+        assert!(shadowed > 1000, "{shadowed} shadow rays blocked");
     }
 
     /// A set of a few primitives, tested in turn, finds what a packet finds:
