@@ -80,10 +80,7 @@ impl ShearedRay {
     /// without indexing by the axes (indexing a vector by a computed lane
     /// went through the stack and stalled on the store): the shear is
     /// `(−d[kx], −d[ky], 1) / d[kz]`, the indexed construction's value
-    /// (a zero may differ in sign). Always inlined: a mesh walk builds it
-    /// at its first leaf, and as a call its result came back through
-    /// memory, which the leaf's test then waited on.
-    #[inline(always)]
+    /// (a zero may differ in sign).
     pub fn new(ray: &Ray) -> ShearedRay {
         let d = ray.dir;
         let a = d.abs();
