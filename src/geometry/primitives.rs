@@ -50,21 +50,32 @@ pub struct PrimitiveSet {
 /// as fast, at six and eight as fast as the passes.
 const FEW_PRIMITIVES: usize = 4;
 
+/// Whether a set of `count` flat faces (`rects`: all axis-aligned rects)
+/// finds its crossings in the faces' passes rather than in turn: more than
+/// [`FEW_PRIMITIVES`], or a few rects. [`FlatFaces::new`] then takes at
+/// most `flat::MAX_FACES`.
+fn in_passes(count: usize, rects: bool) -> bool {
+    count > FEW_PRIMITIVES || rects
+}
+
+/// Whether every primitive is an axis-aligned rect.
+fn all_rects<'a>(prims: impl IntoIterator<Item = &'a Primitive>) -> bool {
+    prims.into_iter().all(|p| matches!(p, Primitive::Rect(_)))
+}
+
 /// `items` cut into flat faces (rects and parallelograms) and the rest, in
 /// their order, when there are both, no fewer faces than the rest, and the
 /// faces alone make a set whose crossings are found eight rays at a pass
 /// ([`PrimitiveSet::side_by_side`]): a glass ball among walls, or lamps
 /// beside boxes, are then two parts, the walls' crossings found side by
 /// side rather than by a walk of one tree over both kinds. A floor under
-/// many balls stays in their set, whose packets walk it well (the floor
-/// apart took the grid of 400 balls 3 % more instructions).
+/// many balls stays in their set, whose packets walk it well
+/// (`docs/performance.md`, "Flat faces apart from the rest").
 pub fn faces_apart(items: &[Baked]) -> Option<(Vec<Baked>, Vec<Baked>)> {
     let face = |p: &Primitive| matches!(p, Primitive::Rect(_) | Primitive::Quad(_));
     let (faces, rest): (Vec<Baked>, Vec<Baked>) = items.iter().partition(|(p, _, _)| face(p));
-    let rects = faces
-        .iter()
-        .all(|(p, _, _)| matches!(p, Primitive::Rect(_)));
-    let side_by_side = faces.len() <= MAX_FACES && (faces.len() > FEW_PRIMITIVES || rects);
+    let rects = all_rects(faces.iter().map(|(p, _, _)| p));
+    let side_by_side = faces.len() <= MAX_FACES && in_passes(faces.len(), rects);
     let split = !rest.is_empty() && faces.len() >= rest.len() && side_by_side;
     split.then_some((faces, rest))
 }
@@ -100,12 +111,10 @@ impl PrimitiveSet {
             leaf.filter(|l| l.len() > 1)
                 .map(|l: Vec<Sphere>| SphereLeaf::new(&l))
         });
-        let few = prims.len() <= FEW_PRIMITIVES;
-        let rects = prims.iter().all(|p| matches!(p, Primitive::Rect(_)));
-        let flat = if few && !rects {
-            None
-        } else {
+        let flat = if in_passes(prims.len(), all_rects(&prims)) {
             FlatFaces::new(&prims)
+        } else {
+            None
         };
         PrimitiveSet {
             prims,
