@@ -141,23 +141,28 @@ impl Quad {
         let d2 = dist2.max(r2);
         let inv = one / dist2.sqrt();
         let away = dist2.gt(zero);
-        let wi = xyz(|j| V::blend(away, to[j] * inv, splat(DVec3::Z[j])));
+        // Each cosine is a dot product with `to` over its length, and each
+        // sine the root of `|to|² − dot²` over it: the roots start as soon
+        // as the dot products are done, beside `|to|`'s, not after it. At
+        // `to = 0` (p inside the bounds) the angles do not matter.
+        let dot = |v: [V; 3]| v[0] * to[0] + v[1] * to[1] + v[2] * to[2];
+        let along = |d: V, default: V| V::blend(away, d * inv, default);
+        let across =
+            |d: V, default: V| V::blend(away, (dist2 - d * d).max(zero).sqrt() * inv, default);
         // The angle the bounds subtend from p (everything if p is inside).
-        let sin = V::new(self.r) * inv;
         let inside = dist2.le(r2);
-        let sin_b = V::blend(inside, zero, sin);
-        let cos_b = V::blend(inside, -one, (one - sin * sin).max(zero).sqrt());
-        let dot = |v: [V; 3]| v[0] * wi[0] + v[1] * wi[1] + v[2] * wi[2];
+        let sin_b = V::blend(inside, zero, V::new(self.r) * inv);
+        let cos_b = V::blend(inside, -one, (dist2 - r2).max(zero).sqrt() * inv);
         let c = dot(xyz(|j| V::new(self.axis[j])));
-        let cos_w = V::blend(V::flags(self.two_sided), c.abs(), c);
-        let sin_w = (one - cos_w * cos_w).max(zero).sqrt();
+        let c = V::blend(V::flags(self.two_sided), c.abs(), c);
+        let (cos_w, sin_w) = (along(c, one), across(c, zero));
         let spread = (V::new(self.sin_spread), V::new(self.cos_spread));
         let x = angle_minus((sin_w, cos_w), spread);
         let cos_p = angle_minus(x, (sin_b, cos_b)).1;
         let mut importance = V::new(self.power) * cos_p / d2;
         if n != DVec3::ZERO {
-            let cos_i = dot(xyz(|j| splat(n[j]))).abs();
-            let sin_i = (one - cos_i * cos_i).max(zero).sqrt();
+            let dn = dot(xyz(|j| splat(n[j]))).abs();
+            let (cos_i, sin_i) = (along(dn, one), across(dn, zero));
             importance = importance * angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
         }
         let usable = d2.gt(zero) & d2.lt(splat(f64::INFINITY));
@@ -551,28 +556,27 @@ mod tests {
         let dist2 = lanes(|k| to[0][k] * to[0][k] + to[1][k] * to[1][k] + to[2][k] * to[2][k]);
         let d2 = lanes(|k| dist2[k].max(r2[k]));
         let inv = lanes(|k| 1.0 / dist2[k].sqrt());
-        let wi = xyz(|j| {
-            lanes(|k| {
-                if dist2[k] > 0.0 {
-                    to[j][k] * inv[k]
-                } else {
-                    DVec3::Z[j]
-                }
-            })
-        });
+        let away = lanes(|k| dist2[k] > 0.0);
+        let dot = |v: [f64; 3], k: usize| v[0] * to[0][k] + v[1] * to[1][k] + v[2] * to[2][k];
+        let along = |d: f64, k: usize| if away[k] { d * inv[k] } else { 1.0 };
+        let across = |d: f64, k: usize| {
+            if away[k] {
+                (dist2[k] - d * d).max(0.0).sqrt() * inv[k]
+            } else {
+                0.0
+            }
+        };
         // The angle the bounds subtend from p (everything if p is inside).
-        let sin = lanes(|k| this.r[k] * inv[k]);
         let inside = lanes(|k| dist2[k] <= r2[k]);
-        let sin_b = lanes(|k| if inside[k] { 0.0 } else { sin[k] });
+        let sin_b = lanes(|k| if inside[k] { 0.0 } else { this.r[k] * inv[k] });
         let cos_b = lanes(|k| {
             if inside[k] {
                 -1.0
             } else {
-                (1.0 - sin[k] * sin[k]).max(0.0).sqrt()
+                (dist2[k] - r2[k]).max(0.0).sqrt() * inv[k]
             }
         });
-        let dot = |v: [f64; 3], k: usize| v[0] * wi[0][k] + v[1] * wi[1][k] + v[2] * wi[2][k];
-        let cos_w = lanes(|k| {
+        let c = lanes(|k| {
             let c = dot(xyz(|j| this.axis[j][k]), k);
             if this.two_sided[k] {
                 c.abs()
@@ -580,7 +584,8 @@ mod tests {
                 c
             }
         });
-        let sin_w = lanes(|k| (1.0 - cos_w[k] * cos_w[k]).max(0.0).sqrt());
+        let cos_w = lanes(|k| along(c[k], k));
+        let sin_w = lanes(|k| across(c[k], k));
         let x = lanes(|k| {
             scalar_angle_minus(
                 (sin_w[k], cos_w[k]),
@@ -590,8 +595,8 @@ mod tests {
         let cos_p = lanes(|k| scalar_angle_minus(x[k], (sin_b[k], cos_b[k])).1);
         let mut importance = lanes(|k| this.power[k] * cos_p[k] / d2[k]);
         if n != DVec3::ZERO {
-            let cos_i = lanes(|k| dot(n.to_array(), k).abs());
-            let sin_i = lanes(|k| (1.0 - cos_i[k] * cos_i[k]).max(0.0).sqrt());
+            let dn = lanes(|k| dot(n.to_array(), k).abs());
+            let (cos_i, sin_i) = (lanes(|k| along(dn[k], k)), lanes(|k| across(dn[k], k)));
             importance = lanes(|k| {
                 importance[k] * scalar_angle_minus((sin_i[k], cos_i[k]), (sin_b[k], cos_b[k])).1
             });
