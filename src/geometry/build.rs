@@ -191,17 +191,26 @@ impl World {
     }
 
     /// Whether a surface is hit with `t` in `(t_min, t_max)` (a shadow
-    /// ray); `media` is cleared and receives the medium stretches found
-    /// (complete only when nothing is hit).
+    /// ray) but emitter `except`, the light the segment ends on (`NONE`
+    /// for none: see [`LightId::blocks_beside`]); `media` is cleared and
+    /// receives the medium stretches found (complete only when nothing is
+    /// hit).
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+        except: LightId,
+    ) -> bool {
         media.clear();
         if let Some(parts) = &self.parts {
-            return parts.occluded(ray, t_min, t_max);
+            return parts.occluded(ray, t_min, t_max, except);
         }
         match &self.root {
-            Root::Bare(geometry) => geometry.occluded(ray, t_min, t_max, media),
-            Root::Placed(instance) => instance.occluded(ray, t_min, t_max, media),
+            Root::Bare(geometry) => geometry.occluded(ray, t_min, t_max, media, except),
+            Root::Placed(instance) => instance.occluded(ray, t_min, t_max, media, except),
         }
     }
 
@@ -828,14 +837,14 @@ mod tests {
         assert!(emitter_below(&world, 0.0, 0.0).is_none());
         let down = |x: f32| Ray::new(Vec3::new(x, 50.0, 0.0), Vec3::NEG_Y, 0.0);
         let mut media = MediumSegments::default();
-        assert!(world.occluded(&down(10.0), 0.0, 100.0, &mut media));
-        assert!(!world.occluded(&down(0.0), 0.0, 100.0, &mut media));
+        assert!(world.occluded(&down(10.0), 0.0, 100.0, &mut media, LightId::NONE));
+        assert!(!world.occluded(&down(0.0), 0.0, 100.0, &mut media, LightId::NONE));
         // The prototype placed without a transform: the root is its geometry.
         scene.objects = vec![Node::Instance(ProtoId(0))];
         let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
         assert!(matches!(world.root, Root::Bare(_)));
         assert_eq!(centre(emitter_below(&world, 0.0, 0.0)), Some(Vec3::ZERO));
-        assert!(world.occluded(&down(0.0), 0.0, 100.0, &mut media));
+        assert!(world.occluded(&down(0.0), 0.0, 100.0, &mut media, LightId::NONE));
     }
 
     /// A prototype's geometry is built once and shared, yet each placement

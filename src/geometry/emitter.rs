@@ -27,6 +27,13 @@ use crate::scene::{Material, MaterialId, Scene, Shape};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LightId(u32);
 
+impl Default for LightId {
+    /// No emitter.
+    fn default() -> LightId {
+        LightId::NONE
+    }
+}
+
 impl LightId {
     /// Not an emitter (or one the list does not hold).
     pub const NONE: LightId = LightId(u32::MAX);
@@ -44,6 +51,27 @@ impl LightId {
     #[inline]
     pub fn index(self) -> Option<usize> {
         (self != LightId::NONE).then_some(self.0 as usize)
+    }
+
+    /// The id inside a placement whose emitters start at `base` of the
+    /// world's emitter `self` (the inverse of [`LightId::within`]): `NONE`
+    /// when either is `NONE` or `self` lies below the placement's.
+    #[inline]
+    pub fn below(self, base: LightId) -> LightId {
+        if self == LightId::NONE || base == LightId::NONE || self.0 < base.0 {
+            return LightId::NONE;
+        }
+        LightId(self.0 - base.0)
+    }
+
+    /// Whether a shadow segment that ends on emitter `except` tests this
+    /// primitive's emitter id: every primitive but that emitter itself,
+    /// which a segment ending on it cannot cross (a sampled light is a
+    /// sphere, a parallelogram or a triangle, and its point is one the
+    /// segment reaches before entering it).
+    #[inline(always)]
+    pub fn blocks_beside(self, except: LightId) -> bool {
+        self != except || except == LightId::NONE
     }
 
     /// This id seen through a placement whose emitters start at `base`

@@ -7,6 +7,7 @@
 //! It imports [`super::object`], which imports it back: a group is one
 //! kind of [`Geometry`] and holds geometry (see that module's header).
 
+use super::emitter::LightId;
 use super::instance::Instance;
 use super::object::Geometry;
 use super::parts::Parts;
@@ -199,17 +200,25 @@ impl Group {
         Parts::of(&s.bounded, &s.unbounded)
     }
 
-    /// Whether any instance is hit with `t` in `(t_min, t_max)`; the media's
-    /// stretches are only looked for when nothing is.
+    /// Whether any instance but emitter `except` is hit with `t` in
+    /// `(t_min, t_max)`; the media's stretches are only looked for when
+    /// nothing is.
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+        except: LightId,
+    ) -> bool {
         let s = &self.surfaces;
         let hit = s.traverse_any(ray, t_max, |slot, t_max| {
-            s.bounded[slot].occluded(ray, t_min, t_max, media)
+            s.bounded[slot].occluded(ray, t_min, t_max, media, except)
         }) || s
             .unbounded
             .iter()
-            .any(|inst| inst.occluded(ray, t_min, t_max, media));
+            .any(|inst| inst.occluded(ray, t_min, t_max, media, except));
         if !hit {
             self.media.stretches(ray, t_min, t_max, media);
         }
@@ -288,7 +297,7 @@ mod tests {
             assert!(starts.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-5));
             // Stopped at t = 7.5: the first two balls and half of neither.
             found.clear();
-            assert!(!group.occluded(&ray, 0.0, 7.5, &mut found));
+            assert!(!group.occluded(&ray, 0.0, 7.5, &mut found, LightId::NONE));
             assert_eq!(found.as_slice().len(), 2);
         }
     }
@@ -329,9 +338,9 @@ mod tests {
         );
         // A shadow ray: blocked by the ball, or through the haze alone.
         media.clear();
-        assert!(group.occluded(&towards, 0.0, 20.0, &mut media));
+        assert!(group.occluded(&towards, 0.0, 20.0, &mut media, LightId::NONE));
         media.clear();
-        assert!(!group.occluded(&towards, 0.0, 5.0, &mut media));
+        assert!(!group.occluded(&towards, 0.0, 5.0, &mut media, LightId::NONE));
         assert_eq!(stretches(&media), [(0.0, 5.0)]);
     }
 

@@ -171,24 +171,36 @@ impl Instance {
         Some(h)
     }
 
-    /// Whether anything is hit with `t` in `(t_min, t_max)`.
+    /// Whether anything but the world's emitter `except` is hit with `t`
+    /// in `(t_min, t_max)`.
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+        except: LightId,
+    ) -> bool {
+        let except = except.below(self.lights);
         let s = match &self.placement {
-            Placement::Identity => return self.geometry.occluded(ray, t_min, t_max, media),
+            Placement::Identity => return self.geometry.occluded(ray, t_min, t_max, media, except),
             Placement::Shift(v) => {
                 let local = Ray::new(ray.origin - *v, ray.dir, ray.time);
-                return self.geometry.occluded(&local, t_min, t_max, media);
+                return self.geometry.occluded(&local, t_min, t_max, media, except);
             }
             Placement::Static(s) => s.as_ref(),
             Placement::Moving(motion) => {
                 let Some(s) = StaticTransform::from_pair(motion.matrices_at(ray.time)) else {
                     return false;
                 };
-                return self.geometry.occluded(&s.local(ray), t_min, t_max, media);
+                return self
+                    .geometry
+                    .occluded(&s.local(ray), t_min, t_max, media, except);
             }
         };
-        self.geometry.occluded(&s.local(ray), t_min, t_max, media)
+        self.geometry
+            .occluded(&s.local(ray), t_min, t_max, media, except)
     }
 
     /// The nearest hit of `ray` on the geometry moved by `v`. Kept out of
@@ -286,7 +298,7 @@ mod tests {
                 let b = by_matrix.intersect(&ray, 0.0, f32::INFINITY, &mut media);
                 assert_eq!(a.is_some(), b.is_some(), "{ray:?}");
                 assert_eq!(
-                    shifted.occluded(&ray, 0.0, f32::INFINITY, &mut media),
+                    shifted.occluded(&ray, 0.0, f32::INFINITY, &mut media, LightId::NONE),
                     a.is_some()
                 );
                 let (Some(a), Some(b)) = (a, b) else { continue };

@@ -657,7 +657,7 @@ mod tests {
             for t_max in [f32::INFINITY, 1.5 * r()] {
                 let any =
                     |ps: &[Primitive]| ps.iter().any(|p| p.intersect(&ray, 1e-4, t_max).is_some());
-                assert_eq!(set.occluded(&ray, 1e-4, t_max), any(&prims));
+                assert_eq!(set.occluded(&ray, 1e-4, t_max, LightId::NONE), any(&prims));
                 assert_eq!(mesh.occluded(&ray, 1e-4, t_max), any(&tri_prims));
             }
             let want = brute_force(&prims, &ray);

@@ -63,22 +63,33 @@ impl Geometry {
         }
     }
 
-    /// Whether a surface is hit with `t` in `(t_min, t_max)`: stops at the
-    /// first hit found and builds no [`Hit`]. Medium segments go to `media`.
+    /// Whether a surface but emitter `except` (see
+    /// [`LightId::blocks_beside`]) is hit with `t` in `(t_min, t_max)`:
+    /// stops at the first hit found and builds no [`Hit`]. Medium segments
+    /// go to `media`.
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, media: &mut MediumSegments) -> bool {
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        media: &mut MediumSegments,
+        except: LightId,
+    ) -> bool {
         match self {
-            Geometry::Primitives(p) => p.occluded(ray, t_min, t_max),
-            Geometry::Single(p, _, _) => p.crossing(ray, t_min, t_max).is_some(),
+            Geometry::Primitives(p) => p.occluded(ray, t_min, t_max, except),
+            Geometry::Single(p, _, light) => {
+                light.blocks_beside(except) && p.crossing(ray, t_min, t_max).is_some()
+            }
             Geometry::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
             Geometry::Revolution { surface, .. } => surface.occluded(ray, t_min, t_max),
             Geometry::Plane { plane, .. } => plane.intersect(ray, t_min, t_max).is_some(),
-            Geometry::Group(g) => g.occluded(ray, t_min, t_max, media),
+            Geometry::Group(g) => g.occluded(ray, t_min, t_max, media, except),
             Geometry::Medium(m) => {
                 m.segments(ray, t_min, t_max, media);
                 false
             }
-            Geometry::Flipped(inner) => inner.occluded(ray, t_min, t_max, media),
+            Geometry::Flipped(inner) => inner.occluded(ray, t_min, t_max, media, except),
         }
     }
 

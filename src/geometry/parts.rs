@@ -81,11 +81,13 @@ impl<'a> Part<'a> {
     }
 
     #[inline(always)]
-    fn occluded(self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    fn occluded(self, ray: &Ray, t_min: f32, t_max: f32, except: LightId) -> bool {
         match self {
-            Part::Set(set) => set.occluded(ray, t_min, t_max),
+            Part::Set(set) => set.occluded(ray, t_min, t_max, except),
             Part::Mesh(mesh) => mesh.occluded(ray, t_min, t_max),
-            Part::Single(p, _, _) => p.crossing(ray, t_min, t_max).is_some(),
+            Part::Single(p, _, light) => {
+                light.blocks_beside(except) && p.crossing(ray, t_min, t_max).is_some()
+            }
             Part::Revolution(surface, _, None) => surface.occluded(ray, t_min, t_max),
             Part::Revolution(surface, _, Some(v)) => {
                 let local = Ray::new(ray.origin - v, ray.dir, ray.time);
@@ -173,14 +175,14 @@ impl Parts {
         plane_hits(&self.planes, ray, t_min, t_max).or(found)
     }
 
-    /// Whether a part is hit with `t` in `(t_min, t_max)`, as the world's
-    /// group decides it.
+    /// Whether a part but emitter `except` is hit with `t` in `(t_min,
+    /// t_max)`, as the world's group decides it.
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, except: LightId) -> bool {
         let inv_dir = ray.dir.recip();
         self.parts.iter().any(|(bounds, geometry, shift)| {
             bounds.entered(ray.origin, inv_dir, t_max)
-                && Part::of(geometry, *shift).occluded(ray, t_min, t_max)
+                && Part::of(geometry, *shift).occluded(ray, t_min, t_max, except)
         }) || planes_occlude(&self.planes, ray, t_min, t_max)
     }
 
@@ -240,13 +242,13 @@ impl<'a> View<'a> {
         plane_hits(self.planes, ray, 0.0, t_max).map_or(found, Nearest::Hit)
     }
 
-    /// Whether a part is hit with `t` in `(t_min, t_max)`, as the world's
-    /// group decides it.
+    /// Whether a part but emitter `except` is hit with `t` in `(t_min,
+    /// t_max)`, as the world's group decides it.
     #[inline]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, except: LightId) -> bool {
         let inv_dir = ray.dir.recip();
         self.parts.iter().any(|(bounds, part)| {
-            bounds.entered(ray.origin, inv_dir, t_max) && part.occluded(ray, t_min, t_max)
+            bounds.entered(ray.origin, inv_dir, t_max) && part.occluded(ray, t_min, t_max, except)
         }) || planes_occlude(self.planes, ray, t_min, t_max)
     }
 }
@@ -478,9 +480,9 @@ mod tests {
                 (_, want) => panic!("ray {k}: the group finds {want:?}"),
             }
             for t_max in [f32::INFINITY, 6.0 * r()] {
-                let want = group.occluded(&ray, 0.0, t_max, &mut media);
-                assert_eq!(parts.occluded(&ray, 0.0, t_max), want);
-                assert_eq!(view.occluded(&ray, 0.0, t_max), want);
+                let want = group.occluded(&ray, 0.0, t_max, &mut media, LightId::NONE);
+                assert_eq!(parts.occluded(&ray, 0.0, t_max, LightId::NONE), want);
+                assert_eq!(view.occluded(&ray, 0.0, t_max, LightId::NONE), want);
             }
         }
         seen

@@ -519,7 +519,10 @@ impl<'a> Tracer<'a> {
             return 0;
         }
         let shadow = spawn_to(hit.surface_point(), s.target, time);
-        if self.world.occluded(&shadow, 0.0, SHADOW_END, media) {
+        if self
+            .world
+            .occluded(&shadow, 0.0, SHADOW_END, media, s.emitter)
+        {
             return 1;
         }
         let weight = if s.delta {

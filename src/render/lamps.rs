@@ -11,6 +11,7 @@
 //! L cos θ over the disk is E. A spot falls off as Mitsuba's `spot`: full
 //! up to `beam` from its axis, linearly in angle to zero at `cutoff`.
 
+use crate::geometry::emitter::LightId;
 use std::f32::consts::{PI, TAU};
 
 use glam::{DVec3, Vec2, Vec3};
@@ -229,6 +230,7 @@ impl LampLight {
                     normal: Vec3::ZERO,
                 },
                 delta: true,
+                emitter: LightId::NONE,
             })
         };
         let distant = |dir: Vec3, emitted: Vec3, pdf: f32, delta: bool| LightSample {
@@ -242,6 +244,7 @@ impl LampLight {
                 normal: Vec3::ZERO,
             },
             delta,
+            emitter: LightId::NONE,
         };
         match self {
             LampLight::Point { at, intensity } => at_point(*at, *intensity),

@@ -157,6 +157,9 @@ pub struct LightSample {
     /// disk), which no scattered ray finds: its sample needs no MIS weight
     /// and `pdf` is the choice's probability alone.
     pub delta: bool,
+    /// The world's id of the emitter sampled (`NONE` for a lamp), which
+    /// the shadow ray leaves out of its test.
+    pub emitter: LightId,
 }
 
 /// The world's bounding sphere is clamped to this radius: a world this
@@ -216,6 +219,9 @@ pub(super) struct Prepared {
     /// gives ([`point_error`]); a sphere's point adds a term of its own
     /// ([`sphere_light_point`]).
     pub(super) error: Vec3,
+    /// The world's id of the emitter, which its shadow rays leave out
+    /// ([`LightId::blocks_beside`]).
+    pub(super) emitter: LightId,
 }
 
 /// The part of the error bound of a point sampled on `shape` that its
@@ -297,7 +303,8 @@ impl LightList {
             .collect();
         let mut of_emitter = vec![None; emitters.list.len()];
         let mut lights = Vec::new();
-        for (e, slot) in emitters.list.iter().zip(&mut of_emitter) {
+        let mut ids = Vec::new();
+        for (id, (e, slot)) in emitters.list.iter().zip(&mut of_emitter).enumerate() {
             let Some(e) = e.filter(|e| e.shape.is_sampleable()) else {
                 continue;
             };
@@ -305,6 +312,7 @@ impl LightList {
                 continue;
             };
             *slot = Some(lights.len() as u32);
+            ids.push(LightId::new(id));
             lights.push(Light {
                 shape: e.shape,
                 material: e.material,
@@ -327,11 +335,13 @@ impl LightList {
         let prepared = lights
             .iter()
             .zip(&powers)
-            .map(|(l, p)| Prepared {
+            .zip(ids)
+            .map(|((l, p), emitter)| Prepared {
                 light: *l,
                 inv_area: l.shape.area().recip(),
                 power_share: p / total,
                 error: point_error(&l.shape),
+                emitter,
             })
             .collect();
         let mut bounds: Vec<LightBounds> = lights
@@ -554,6 +564,7 @@ impl LightList {
             light,
             inv_area,
             error,
+            emitter,
             ..
         } = &self.prepared[i];
         let select = select as f32;
@@ -596,6 +607,7 @@ impl LightList {
                 normal: n,
             },
             delta: false,
+            emitter: *emitter,
         })
     }
 

@@ -15,6 +15,7 @@ use super::super::lights::{
     LightList, LightShape, Prepared,
 };
 use super::{Frame, Lane, Shaded};
+use crate::geometry::emitter::LightId;
 use crate::geometry::ray::offset_origin;
 use crate::simd::LANES;
 
@@ -28,6 +29,8 @@ pub(super) struct FlatLight {
     inv_area: f64,
     pub(super) emit: Vec3,
     two_sided: bool,
+    /// The world's id of the emitter, which its shadow rays leave out.
+    pub(super) emitter: LightId,
 }
 
 /// The one sphere light paths sample, with the part of its points' error
@@ -39,6 +42,8 @@ pub(super) struct BallLight {
     error: Vec3,
     pub(super) emit: Vec3,
     two_sided: bool,
+    /// The world's id of the emitter, which its shadow rays leave out.
+    pub(super) emitter: LightId,
 }
 
 /// Next-event estimation among many lights in the lanes `diffuse` flags,
@@ -66,6 +71,7 @@ pub(super) fn sample_lights(
         let (p, n) = (frame.point(i), frame.normal.get(i));
         if let Some((k, select)) = lights.choose_drawn(p, n, choice[i]) {
             chosen.set(i, k, select as f32, lights.shape(k));
+            out.light[i] = lights.shape(k).emitter;
         }
     }
     let scalar = sample_in_lanes(&chosen, frame, u, out);
@@ -295,6 +301,7 @@ pub(super) fn flat_light(light: &Prepared) -> Option<FlatLight> {
         inv_area: light.inv_area,
         emit: light.light.emit,
         two_sided: light.light.two_sided,
+        emitter: light.emitter,
     })
 }
 
@@ -358,6 +365,7 @@ pub(super) fn ball_light(light: &Prepared) -> Option<BallLight> {
         error: light.error,
         emit: light.light.emit,
         two_sided: light.light.two_sided,
+        emitter: light.emitter,
     })
 }
 

@@ -31,6 +31,7 @@ use super::integrator::{
 };
 use super::lights::{LightList, LightSample};
 use super::texture::lookup;
+use crate::geometry::emitter::LightId;
 use crate::geometry::flat::{Hits8, Nearest8};
 use crate::geometry::parts::{Nearest, Parts, View};
 use crate::geometry::primitives::PrimitiveSet;
@@ -415,10 +416,18 @@ impl<'a> Lanes<'a> {
                     let (origin, to) = (s.origin.get(i), s.to.get(i));
                     let shadow = Ray::new(origin, to - origin, ray[i].time);
                     rays[i] += 1;
+                    // The light the segment ends on, which cannot block it.
+                    let except = match &self.lighting {
+                        Lighting::Flat(light) => light.emitter,
+                        Lighting::Ball(ball, _) => ball.emitter,
+                        _ => s.light[i],
+                    };
                     let blocked = match (flat, parts) {
-                        (Some(set), _) => set.occluded(&shadow, 0.0, SHADOW_END),
-                        (None, Some(parts)) => parts.occluded(&shadow, 0.0, SHADOW_END),
-                        (None, None) => world.occluded(&shadow, 0.0, SHADOW_END, &mut media),
+                        (Some(set), _) => set.occluded(&shadow, 0.0, SHADOW_END, except),
+                        (None, Some(parts)) => parts.occluded(&shadow, 0.0, SHADOW_END, except),
+                        (None, None) => {
+                            world.occluded(&shadow, 0.0, SHADOW_END, &mut media, except)
+                        }
                     };
                     if !blocked {
                         radiance[i] += throughput[i] * s.f.get(i) * s.emit.get(i) * s.scale[i];
@@ -637,6 +646,8 @@ struct Shaded {
     wi: Lanes3,
     pdf: Lane<f32>,
     next: Lanes3,
+    /// Under several lights, the emitter each lane's sample lies on.
+    light: Lane<LightId>,
 }
 
 /// The camera rays of the lanes through pixel `(x, y)` for the camera's
