@@ -113,7 +113,9 @@ impl RevolutionSurface {
         )
     }
 
-    /// The nearest hit with `t` in `(t_min, t_max)`.
+    /// The nearest hit with `t` in `(t_min, t_max)`. Inlined, so that the
+    /// ray's coordinates reach the walk from where the caller has them.
+    #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<SurfaceHit> {
         let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
         self.walk(
@@ -130,6 +132,8 @@ impl RevolutionSurface {
     /// Whether the surface has a hit with `t` in `(t_min, t_max)`: the
     /// walk of [`RevolutionSurface::intersect`], stopped at its first hit,
     /// which that walk would also find (same order, same limits so far).
+    /// Inlined as [`RevolutionSurface::intersect`] is.
+    #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let axis_ray = AxisRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3());
         self.walk(
