@@ -93,8 +93,8 @@ def split(rows, parts):
     return {k: v / kept for k, v in shares.items()}, kept / 100.0
 
 
-def profile(cmd, tmp, name, control=()):
-    data = pathlib.Path(tmp) / f"{name}.data"
+def profile(cmd, folder, name, control=()):
+    data = pathlib.Path(folder) / f"{name}.data"
     done = subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", str(FREQ), *control, "-o", str(data)]
                           + cmd, capture_output=True, text=True)
     if done.returncode != 0:
@@ -139,6 +139,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=4, help="Mitsuba renders profiled (rtlang renders rounds × spp)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--sampler", default="multijitter", help="Mitsuba's sampler")
+    ap.add_argument("--keep", type=pathlib.Path,
+                    help="a folder to keep the profiles in (SCENE-rtlang.data, SCENE-mitsuba.data), for perf report")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     ap.add_argument("--fifos", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -153,6 +155,8 @@ def main():
     print("| scene | renderer | closest-hit tracing | shadow tracing | the rest | all |")
     print("|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
+        keep = args.keep or pathlib.Path(tmp)
+        keep.mkdir(parents=True, exist_ok=True)
         for mod in S.scene_modules(pathlib.Path(args.suite), args.scenes):
             size = S.frame(mod, args.size)
             pixels = size[0] * size[1]
@@ -163,7 +167,7 @@ def main():
                    "--threads", str(args.threads), "--progress", "none", "-o", str(pathlib.Path(tmp) / "r.exr")]
             for k, v in defines.items():
                 cmd += ["-D", f"{k}={v}"]
-            data, out = profile(cmd, tmp, "rtlang")
+            data, out = profile(cmd, keep, f"{mod.__name__}-rtlang")
             rate = float(RATE.search(out).group(1)) * 1e6
             shares, _ = split(perf_rows(data), lambda dso, sym: rtlang_parts(sym))
             # The render's CPU time: its samples over its rate, both threads busy.
@@ -178,7 +182,7 @@ def main():
                      str(args.size), "--spp", str(args.spp), "--rounds", str(args.rounds), "--threads",
                      str(args.threads), "--sampler", args.sampler, "--fifos", ",".join(map(str, fifos))]
             control = ["--control", f"fifo:{fifos[0]},{fifos[1]}", "--delay", "-1"]
-            data, out = profile(child, tmp, "mitsuba", control)
+            data, out = profile(child, keep, f"{mod.__name__}-mitsuba", control)
             seconds = float(re.search(r"rendered ([\d.]+) s", out).group(1))
             shares, kept = split(perf_rows(data), mitsuba_parts)
             cpu = sample_count(data) / FREQ * kept

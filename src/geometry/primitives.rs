@@ -439,17 +439,23 @@ impl PrimitiveSet {
     /// Slot `slot`'s material and light id.
     #[inline(always)]
     pub fn ids(&self, slot: usize) -> (MaterialId, LightId) {
-        let light = self.lights.get(slot).copied().unwrap_or(LightId::NONE);
-        (self.materials[slot], light)
+        (self.materials[slot], self.light(slot))
+    }
+
+    /// Slot `slot`'s light id.
+    #[inline(always)]
+    fn light(&self, slot: usize) -> LightId {
+        self.lights.get(slot).copied().unwrap_or(LightId::NONE)
     }
 
     /// Whether any primitive but emitter `except` (the light a shadow
     /// segment ends on, or `NONE`) is hit with `t` in `(t_min, t_max)`.
-    /// Packed leaves and flat faces test all their primitives: leaving one
-    /// out there saves nothing.
+    /// Packed sphere leaves and flat faces test all their primitives: the
+    /// comparisons cost more there than the one test they would spare
+    /// (`docs/performance.md`, the tried table).
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, except: LightId) -> bool {
-        let tested = |slot: usize| self.ids(slot).1.blocks_beside(except);
+        let tested = |slot: usize| self.light(slot).blocks_beside(except);
         if self.few() {
             return (0..self.prims.len()).any(|slot| {
                 tested(slot) && self.prims[slot].crossing(ray, t_min, t_max).is_some()

@@ -146,23 +146,22 @@ impl Quad {
         // as the dot products are done, beside `|to|`'s, not after it. At
         // `to = 0` (p inside the bounds) the angles do not matter.
         let dot = |v: [V; 3]| v[0] * to[0] + v[1] * to[1] + v[2] * to[2];
-        let along = |d: V, default: V| V::blend(away, d * inv, default);
-        let across =
-            |d: V, default: V| V::blend(away, (dist2 - d * d).max(zero).sqrt() * inv, default);
+        let along = |d: V| V::blend(away, d * inv, one);
+        let across = |d: V| V::blend(away, (dist2 - d * d).max(zero).sqrt() * inv, zero);
         // The angle the bounds subtend from p (everything if p is inside).
         let inside = dist2.le(r2);
         let sin_b = V::blend(inside, zero, V::new(self.r) * inv);
         let cos_b = V::blend(inside, -one, (dist2 - r2).max(zero).sqrt() * inv);
         let c = dot(xyz(|j| V::new(self.axis[j])));
         let c = V::blend(V::flags(self.two_sided), c.abs(), c);
-        let (cos_w, sin_w) = (along(c, one), across(c, zero));
+        let (cos_w, sin_w) = (along(c), across(c));
         let spread = (V::new(self.sin_spread), V::new(self.cos_spread));
         let x = angle_minus((sin_w, cos_w), spread);
         let cos_p = angle_minus(x, (sin_b, cos_b)).1;
         let mut importance = V::new(self.power) * cos_p / d2;
         if n != DVec3::ZERO {
             let dn = dot(xyz(|j| splat(n[j]))).abs();
-            let (cos_i, sin_i) = (along(dn, one), across(dn, zero));
+            let (cos_i, sin_i) = (along(dn), across(dn));
             importance = importance * angle_minus((sin_i, cos_i), (sin_b, cos_b)).1;
         }
         let usable = d2.gt(zero) & d2.lt(splat(f64::INFINITY));

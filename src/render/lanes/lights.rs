@@ -70,8 +70,9 @@ pub(super) fn sample_lights(
         }
         let (p, n) = (frame.point(i), frame.normal.get(i));
         if let Some((k, select)) = lights.choose_drawn(p, n, choice[i]) {
-            chosen.set(i, k, select as f32, lights.shape(k));
-            out.light[i] = lights.shape(k).emitter;
+            let light = lights.shape(k);
+            chosen.set(i, k, select as f32, light);
+            out.light[i] = light.emitter;
         }
     }
     let scalar = sample_in_lanes(&chosen, frame, u, out);

@@ -408,6 +408,13 @@ impl<'a> Lanes<'a> {
             }
             let s = &shaded;
             if self.lighting.samples() {
+                // The light a lane's segment ends on, which cannot block it:
+                // the one light, or under several each lane's own.
+                let one_light = match &self.lighting {
+                    Lighting::Flat(light) => Some(light.emitter),
+                    Lighting::Ball(ball, _) => Some(ball.emitter),
+                    _ => None,
+                };
                 for i in 0..LANES {
                     let traced = diffuse[i] && s.traced[i];
                     if !traced {
@@ -416,12 +423,7 @@ impl<'a> Lanes<'a> {
                     let (origin, to) = (s.origin.get(i), s.to.get(i));
                     let shadow = Ray::new(origin, to - origin, ray[i].time);
                     rays[i] += 1;
-                    // The light the segment ends on, which cannot block it.
-                    let except = match &self.lighting {
-                        Lighting::Flat(light) => light.emitter,
-                        Lighting::Ball(ball, _) => ball.emitter,
-                        _ => s.light[i],
-                    };
+                    let except = one_light.unwrap_or(s.light[i]);
                     let blocked = match (flat, parts) {
                         (Some(set), _) => set.occluded(&shadow, 0.0, SHADOW_END, except),
                         (None, Some(parts)) => parts.occluded(&shadow, 0.0, SHADOW_END, except),
