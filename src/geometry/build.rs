@@ -28,7 +28,7 @@ use glam::{Affine3A, Mat4, Vec3};
 use super::bake::{flatten, primitive, Baked};
 use super::emitter::{is_light, Emitters, LightId, Placed, Source};
 use super::group::Group;
-use super::instance::{Instance, Placement};
+use super::instance::{Instance, Placement, StaticTransform};
 use super::medium::Medium;
 use super::mesh::MeshGeometry;
 use super::object::Geometry;
@@ -36,7 +36,7 @@ use super::parts::Parts;
 use super::primitives::{faces_apart, PrimitiveSet};
 use super::revolution::{tessellate, RevolutionSurface};
 use super::segments::MediumSegments;
-use super::shapes::Plane;
+use super::shapes::{Cuboid, Plane};
 use super::sweep::swept_bounds;
 use super::{Aabb, Hit, Ray};
 use crate::scene::motion::CompiledMotion;
@@ -463,7 +463,10 @@ impl Builder<'_> {
             } => {
                 let inner =
                     self.instance(std::iter::once(&**boundary), &at.with(Emitting::Hidden))?;
-                let medium = Medium::new(self.unplaced(inner), *density, *material);
+                let mut medium = Medium::new(self.unplaced(inner), *density, *material);
+                if let Some((cuboid, to_medium)) = placed_box(boundary, at.moved()) {
+                    medium = medium.boxed(cuboid, to_medium);
+                }
                 self.media = true;
                 items.push(self.placed(Geometry::Medium(medium), Placement::Identity));
             }
@@ -772,6 +775,30 @@ fn moved_motion(motion: &Motion, shift: Vec3) -> Motion {
     motion
 }
 
+/// The box `node` is, with the map from its space to the one `node` is
+/// in after `m`: a box under static transforms (and groups of one), whose
+/// map is invertible. Flips are left out (they turn inside out).
+fn placed_box(node: &Node, m: Mat4) -> Option<(Cuboid, StaticTransform)> {
+    match node {
+        Node::Shape {
+            shape: Shape::Cuboid { min, max },
+            ..
+        } => {
+            let cuboid = Cuboid {
+                min: min.min(*max),
+                max: min.max(*max),
+            };
+            Some((cuboid, StaticTransform::new(m)?))
+        }
+        Node::Transform { matrix, child } => placed_box(child, m * *matrix),
+        Node::Group(children) => match children.as_slice() {
+            [child] => placed_box(child, m),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
@@ -780,6 +807,33 @@ mod tests {
     use crate::geometry::emitter::{Emitter, LightShape};
     use crate::scene::object::RectPlane;
     use crate::scene::{Material, Motion, Texture};
+
+    #[test]
+    fn a_medium_boundary_is_a_placed_box_only_under_transforms() {
+        let block = Node::Shape {
+            shape: Shape::Cuboid {
+                min: Vec3::new(1.0, 2.0, 3.0),
+                max: Vec3::ZERO,
+            },
+            material: MaterialId(0),
+        };
+        let turn = Mat4::from_rotation_y(0.3) * Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0));
+        let turned = Node::Transform {
+            matrix: turn,
+            child: Box::new(Node::Group(vec![block.clone()])),
+        };
+        let shift = Mat4::from_translation(Vec3::new(0.0, -4.0, 0.0));
+        let (cuboid, map) = placed_box(&turned, shift).unwrap();
+        assert_eq!(
+            (cuboid.min, cuboid.max),
+            (Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0))
+        );
+        let corner = (shift * turn).transform_point3(cuboid.max);
+        assert!((map.to_parent.transform_point3(cuboid.max) - corner).length() < 1e-5);
+        // A flip turns the box inside out; two boxes are not one.
+        assert!(placed_box(&Node::Flip(Box::new(block.clone())), shift).is_none());
+        assert!(placed_box(&Node::Group(vec![block.clone(), block]), shift).is_none());
+    }
 
     /// A scene with one light material (and a grey one), and its id.
     fn lit() -> (Scene, MaterialId) {

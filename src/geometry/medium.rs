@@ -10,9 +10,10 @@
 
 use std::sync::Arc;
 
+use super::instance::StaticTransform;
 use super::object::Geometry;
 use super::segments::{MediumSegment, MediumSegments, MAX_SEGMENTS};
-use super::shapes::Sphere;
+use super::shapes::{Cuboid, Sphere};
 use super::{Aabb, Ray};
 use crate::scene::MaterialId;
 
@@ -22,6 +23,11 @@ pub struct Medium {
     /// The boundary when it is a ball, turned or not (most media): its
     /// crossings then come from one solve of its roots.
     ball: Option<Sphere>,
+    /// The boundary when it is a box under an affine map (the map from
+    /// the box's space to the medium's): its stretch then comes from one
+    /// slab test in the box's space, where a box the map turns was six
+    /// faces asked once for each crossing and once more past the exit.
+    block: Option<(Cuboid, StaticTransform)>,
     density: f32,
     /// The phase function (an isotropic material).
     material: MaterialId,
@@ -36,8 +42,18 @@ impl Medium {
         Medium {
             boundary,
             ball,
+            block: None,
             density,
             material,
+        }
+    }
+
+    /// The medium whose boundary is `cuboid` placed by `to_medium` (what
+    /// `boundary` is): its stretch is found by [`Cuboid::span`].
+    pub fn boxed(self, cuboid: Cuboid, to_medium: StaticTransform) -> Medium {
+        Medium {
+            block: Some((cuboid, to_medium)),
+            ..self
         }
     }
 
@@ -49,6 +65,23 @@ impl Medium {
     /// in `(t_min, t_max)`.
     pub fn segments(&self, ray: &Ray, t_min: f32, t_max: f32, out: &mut MediumSegments) {
         if self.density <= 0.0 {
+            return;
+        }
+        if let Some((cuboid, to_medium)) = &self.block {
+            // A box is convex: one stretch, from where the ray is first
+            // inside to where it leaves (the box's `t` is the ray's).
+            let Some((near, far)) = cuboid.span(&to_medium.local(ray)) else {
+                return;
+            };
+            let (t0, t1) = (near.max(t_min), far.min(t_max));
+            if t0 < t1 {
+                out.push(MediumSegment {
+                    t0,
+                    t1,
+                    density: self.density,
+                    material: self.material,
+                });
+            }
             return;
         }
         match self.ball {
@@ -317,6 +350,80 @@ mod tests {
                 grazing_stretches_stay_inside(&m, ball, &mut next);
             }
         }
+    }
+
+    #[test]
+    fn a_placed_box_gives_the_stretches_of_its_faces() {
+        // The box's one slab test against the general walk over the box's
+        // faces placed in the medium's space (six parallelograms where the
+        // map turns it), as the builder makes them: turned, sheared,
+        // stretched, tiny, huge and far from the origin; rays from inside
+        // and outside, shadow segments and open rays.
+        use crate::geometry::bake::transformed;
+        use glam::Mat4;
+        let mut next = numbers(31);
+        let cuboid = Cuboid {
+            min: Vec3::new(-1.0, 0.0, -0.5),
+            max: Vec3::new(1.5, 2.0, 0.5),
+        };
+        let maps = [
+            Mat4::from_rotation_y(0.26) * Mat4::from_translation(Vec3::new(2.0, 0.0, 3.0)),
+            Mat4::from_scale_rotation_translation(
+                Vec3::new(3.0, 0.5, 1.0),
+                Quat::from_euler(glam::EulerRot::XYZ, 0.4, -1.1, 2.0),
+                Vec3::new(-5.0, 1.0, 0.0),
+            ),
+            Mat4::from_scale(Vec3::splat(1e-3)) * Mat4::from_rotation_x(1.0),
+            Mat4::from_translation(Vec3::new(1e5, -2e5, 0.0)) * Mat4::from_rotation_z(0.7),
+            Mat4::from_scale(Vec3::new(1e4, 2e4, 1e4)) * Mat4::from_rotation_y(-0.3),
+            Mat4::from_translation(Vec3::new(0.5, 0.5, 0.5)),
+        ];
+        let (mut stretches, mut inside) = (0, 0);
+        for m in maps {
+            let faces = transformed(&Primitive::Cuboid(cuboid), &m).unwrap();
+            let set = faces
+                .into_iter()
+                .map(|f| (f, MaterialId(0), LightId::NONE))
+                .collect();
+            let walked = medium(Geometry::Primitives(PrimitiveSet::new(set)));
+            let boxed = medium(Geometry::Primitives(PrimitiveSet::default()))
+                .boxed(cuboid, StaticTransform::new(m).unwrap());
+            let size = m.transform_vector3(cuboid.max - cuboid.min).length();
+            for _ in 0..5000 {
+                // A third of the rays start inside the box.
+                let reach = if next() < 1.0 / 3.0 { 0.95 } else { 3.0 };
+                let mut at = |reach: f32| {
+                    let u = Vec3::new(next(), next(), next());
+                    let p = cuboid.min + u * (cuboid.max - cuboid.min);
+                    let centre = 0.5 * (cuboid.min + cuboid.max);
+                    m.transform_point3(centre + (p - centre) * reach)
+                };
+                let (from, to) = (at(reach), at(1.2));
+                let ray = Ray::new(from, to - from, 0.0);
+                let t_max = if next() < 0.5 { 1.0 } else { f32::INFINITY };
+                // Stretches shorter than the rounding of either are left out:
+                // a corner grazed may give one and not the other.
+                let tol = 1e-4 * (size + from.abs().max_element()) / ray.dir.length();
+                let long = |v: Vec<(f32, f32)>| -> Vec<(f32, f32)> {
+                    v.into_iter().filter(|(a, b)| b - a > tol).collect()
+                };
+                let (want, got) = (
+                    long(found(&walked, &ray, 0.0, t_max)),
+                    long(found(&boxed, &ray, 0.0, t_max)),
+                );
+                assert_eq!(want.len(), got.len(), "{m:?} {ray:?} {want:?} {got:?}");
+                for ((a0, a1), (b0, b1)) in want.iter().zip(&got) {
+                    assert!(
+                        (a0 - b0).abs() <= tol && (a1 - b1).abs() <= tol,
+                        "{want:?} {got:?}"
+                    );
+                    stretches += 1;
+                    inside += usize::from(*b0 == 0.0);
+                }
+            }
+        }
+        // Rays that meet the box, and some that start inside it.
+        assert!(stretches > 10_000 && inside > 5_000, "{stretches} {inside}");
     }
 
     /// Lines passing the centre of `ball` within a few ulps of its radius

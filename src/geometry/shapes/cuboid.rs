@@ -31,16 +31,7 @@ impl Cuboid {
     /// axis and whether it is the `max` side (1) or the `min` side (0).
     #[inline]
     pub fn crossing(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Crossing> {
-        let inv = ray.dir.recip();
-        let t0 = (self.min - ray.origin) * inv;
-        let t1 = (self.max - ray.origin) * inv;
-        // A ray parallel to a slab is inside it for every t or for none; on
-        // its boundary 0·∞ would give a NaN that picks a wrong face.
-        let parallel = ray.dir.cmpeq(Vec3::ZERO);
-        let inside = ray.origin.cmpge(self.min) & ray.origin.cmple(self.max);
-        let (all, none) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-        let near = Vec3::select(parallel, Vec3::select(inside, none, all), t0.min(t1));
-        let far = Vec3::select(parallel, Vec3::select(inside, all, none), t0.max(t1));
+        let (near, far) = self.slabs(ray);
         let (t_near, t_far) = (near.max_element(), far.min_element());
         if t_near > t_far {
             return None;
@@ -58,6 +49,32 @@ impl Cuboid {
             t,
             data: Vec3::new(axis as f32, f32::from(u8::from(at_max)), 0.0),
         })
+    }
+
+    /// Where the ray's line enters and leaves the solid box, `(t_near,
+    /// t_far)`, if it meets it: the two crossings [`Cuboid::crossing`]
+    /// chooses from, found by one slab test.
+    #[inline]
+    pub fn span(&self, ray: &Ray) -> Option<(f32, f32)> {
+        let (near, far) = self.slabs(ray);
+        let (t_near, t_far) = (near.max_element(), far.min_element());
+        (t_near <= t_far).then_some((t_near, t_far))
+    }
+
+    /// Per axis, the ray's entry into and exit from the box's slab.
+    #[inline(always)]
+    fn slabs(&self, ray: &Ray) -> (Vec3, Vec3) {
+        let inv = ray.dir.recip();
+        let t0 = (self.min - ray.origin) * inv;
+        let t1 = (self.max - ray.origin) * inv;
+        // A ray parallel to a slab is inside it for every t or for none; on
+        // its boundary 0·∞ would give a NaN that picks a wrong face.
+        let parallel = ray.dir.cmpeq(Vec3::ZERO);
+        let inside = ray.origin.cmpge(self.min) & ray.origin.cmple(self.max);
+        let (all, none) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        let near = Vec3::select(parallel, Vec3::select(inside, none, all), t0.min(t1));
+        let far = Vec3::select(parallel, Vec3::select(inside, all, none), t0.max(t1));
+        (near, far)
     }
 
     /// The hit at crossing `c` of `ray`, as [`Cuboid::intersect`] has it.
