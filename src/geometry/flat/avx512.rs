@@ -95,6 +95,7 @@ impl Wide for Lanes16 {
     type Mask = Mask16;
     const NONE: Mask16 = Mask16(0);
 
+    #[inline(always)]
     fn row(value: impl Fn(usize) -> f32) -> Row16 {
         Row16(std::array::from_fn(value))
     }

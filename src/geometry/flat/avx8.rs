@@ -87,6 +87,7 @@ impl Wide for Avx8 {
     const NONE: AvxMask8 =
         AvxMask8(unsafe { std::mem::transmute::<[i32; LANES], __m256>([0; LANES]) });
 
+    #[inline(always)]
     fn row(value: impl Fn(usize) -> f32) -> Row8 {
         Row8(std::array::from_fn(value))
     }

@@ -28,7 +28,9 @@ pub(super) trait Wide:
     /// No lane set.
     const NONE: Self::Mask;
 
-    /// A row of `value(lane)` (built with the packs, not per ray).
+    /// A row of `value(lane)`: built with the packs, and for each pass of
+    /// eight rays (their coordinates), so every impl is always inlined (a
+    /// call there costs each pass six calls and their stack round trips).
     fn row(value: impl Fn(usize) -> f32) -> Self::Row;
     /// A mask of `flag(lane)` (built with the packs).
     fn mask(flag: impl Fn(usize) -> bool) -> Self::Mask;
@@ -113,6 +115,7 @@ impl Wide for Lanes8 {
     type Mask = Mask8;
     const NONE: Mask8 = Mask8([0; LANES]);
 
+    #[inline(always)]
     fn row(value: impl Fn(usize) -> f32) -> Lanes8 {
         Lanes8(from_fn(value))
     }
