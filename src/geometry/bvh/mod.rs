@@ -100,7 +100,7 @@ const NETWORK8: [(usize, usize); 19] = [
 /// five to eight [`NETWORK8`]. A compare-exchange of two keys compiles to
 /// conditional moves, so no branch follows the distances: an insertion
 /// sort's branches mispredicted on incoherent rays (random rays through
-/// the 28k bunny run 1.06–1.11× as fast with the networks). Sorting all
+/// the 28k bunny run 1.06–1.13× as fast with the networks). Sorting all
 /// eight lanes' keys with the large network, missed children last, saves
 /// the gathering loop but was slower.
 #[inline(always)]
