@@ -35,7 +35,6 @@ import time
 
 HERE = pathlib.Path(__file__).resolve().parent
 FREQ = 4000  # perf samples per second of CPU time
-RATE = re.compile(r"([\d.]+) M samples/s")
 ROW = re.compile(r"^\s*([\d.]+)%\s+(.*?)\s+\[[.k]\]\s+(.*?)\s*$")
 # rtlang's functions that load and build the scene rather than render it.
 BUILD = re.compile(r"sah::|::build|collapse|number_leaves|Packs<.*>::new|tobj|obj_lines|scene::obj|dec2flt"
@@ -161,14 +160,10 @@ def main():
             size = S.frame(mod, args.size)
             pixels = size[0] * size[1]
             spp = args.spp * args.rounds
-            defines = {k: str(f()) for k, f in getattr(mod, "DEFINES", {}).items()}
-            cmd = [rtlang, "render", str(S.rt_path(mod)), "--width", str(size[0]), "--height", str(size[1]),
-                   "--spp", str(spp), "--max-depth", str(mod.DEPTH), "--seed", "1",
-                   "--threads", str(args.threads), "--progress", "none", "-o", str(pathlib.Path(tmp) / "r.exr")]
-            for k, v in defines.items():
-                cmd += ["-D", f"{k}={v}"]
+            cmd = S.rtlang_command(rtlang, mod, S.scene_defines(mod), size, spp, 1, args.threads,
+                                   pathlib.Path(tmp) / "r.exr")
             data, out = profile(cmd, keep, f"{mod.__name__}-rtlang")
-            rate = float(RATE.search(out).group(1)) * 1e6
+            rate = float(S.RATE.search(out).group(1)) * 1e6
             shares, _ = split(perf_rows(data), lambda dso, sym: rtlang_parts(sym))
             # The render's CPU time: its samples over its rate, both threads busy.
             per = args.threads / rate * 1e6

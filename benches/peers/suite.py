@@ -97,14 +97,26 @@ def mitsuba_render(scene, spp, seed):
     return arr, time.perf_counter() - start
 
 
-def rtlang_render(args, mod, defines, size, spp, seed, out):
-    """(image, seconds) of one `rtlang render` on two threads, the render
-    alone (rtlang prints the rate of its render, parse and build excluded)."""
-    cmd = [args.rtlang, "render", str(rt_path(mod)), "--width", str(size[0]), "--height", str(size[1]),
-           "--spp", str(spp), "--max-depth", str(mod.DEPTH), "--seed", str(seed), "--threads", str(args.threads),
+def scene_defines(mod):
+    """The `-D NAME=VALUE` parameters of a scene's .rt file (its twin's
+    `DEFINES`, each made on demand)."""
+    return {k: str(f()) for k, f in getattr(mod, "DEFINES", {}).items()}
+
+
+def rtlang_command(rtlang, mod, defines, size, spp, seed, threads, out):
+    """The `rtlang render` command line of scene `mod` at the twin's depth."""
+    cmd = [rtlang, "render", str(rt_path(mod)), "--width", str(size[0]), "--height", str(size[1]),
+           "--spp", str(spp), "--max-depth", str(mod.DEPTH), "--seed", str(seed), "--threads", str(threads),
            "--progress", "none", "-o", str(out)]
     for k, v in defines.items():
         cmd += ["-D", f"{k}={v}"]
+    return cmd
+
+
+def rtlang_render(args, mod, defines, size, spp, seed, out):
+    """(image, seconds) of one `rtlang render` on two threads, the render
+    alone (rtlang prints the rate of its render, parse and build excluded)."""
+    cmd = rtlang_command(args.rtlang, mod, defines, size, spp, seed, args.threads, out)
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed:\n{done.stdout}{done.stderr}")
@@ -136,7 +148,7 @@ def geomean(xs):
 
 def run_scene(args, mod):
     size = frame(mod, args.size)
-    defines = {k: str(f()) for k, f in getattr(mod, "DEFINES", {}).items()}
+    defines = scene_defines(mod)
     t0 = time.perf_counter()
     ref = reference(args, mod, defines, size)
     scenes, counts = {}, {}

@@ -835,6 +835,45 @@ mod tests {
         assert!(placed_box(&Node::Group(vec![block.clone(), block]), shift).is_none());
     }
 
+    /// The builder gives a medium in a turned box (or a plain one) the
+    /// box's slab test, and a flipped box the general walk.
+    #[test]
+    fn a_box_of_medium_is_built_with_its_slab_test() {
+        let mut scene = Scene::default();
+        let t = scene.add_texture(Texture::Solid(Vec3::ONE));
+        let fog = scene.add_material(Material::Isotropic { albedo: t });
+        let block = Node::Shape {
+            shape: Shape::Cuboid {
+                min: Vec3::ZERO,
+                max: Vec3::new(1.0, 2.0, 3.0),
+            },
+            material: fog,
+        };
+        let turned = Node::Transform {
+            matrix: Mat4::from_rotation_y(0.3),
+            child: Box::new(block.clone()),
+        };
+        let boxed = |boundary: Node| {
+            let mut scene = scene.clone();
+            scene.objects = vec![Node::Medium {
+                boundary: Box::new(boundary),
+                density: 0.5,
+                material: fog,
+            }];
+            let world = World::build_in(&scene, Vec3::ZERO).expect("builds");
+            match &world.root {
+                Root::Bare(g) => match g.as_ref() {
+                    Geometry::Medium(m) => m.is_boxed(),
+                    _ => panic!("the root is not the medium"),
+                },
+                Root::Placed(_) => panic!("the medium is placed"),
+            }
+        };
+        assert!(boxed(turned));
+        assert!(boxed(block.clone()));
+        assert!(!boxed(Node::Flip(Box::new(block))));
+    }
+
     /// A scene with one light material (and a grey one), and its id.
     fn lit() -> (Scene, MaterialId) {
         let mut scene = Scene::default();

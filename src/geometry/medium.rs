@@ -57,6 +57,12 @@ impl Medium {
         }
     }
 
+    /// Whether the stretches come from [`Medium::boxed`]'s slab test.
+    #[cfg(test)]
+    pub fn is_boxed(&self) -> bool {
+        self.block.is_some()
+    }
+
     pub fn bounds(&self) -> Aabb {
         self.boundary.bounds()
     }
